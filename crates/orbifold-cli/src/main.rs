@@ -1,1 +1,31 @@
-fn main() {}
+//! `orbifold`: classify, enumerate and (as the project grows) lay out, tile, build, trace and
+//! render two-dimensional kaleidoscopic orbifolds and their mirror rooms.
+
+mod args;
+mod commands;
+mod error;
+mod output;
+mod report;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use crate::args::{Cli, Command};
+use crate::error::CliError;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(args) => commands::info::run(&args),
+        Command::Enumerate(args) => commands::enumerate::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(CliError::BrokenPipe) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("{error}");
+            ExitCode::from(error.exit_code())
+        }
+    }
+}

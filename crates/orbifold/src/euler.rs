@@ -122,6 +122,31 @@ impl EulerCharacteristic {
     pub fn area(&self) -> f64 {
         2.0 * std::f64::consts::PI * self.0.abs().to_f64().unwrap_or(f64::NAN)
     }
+
+    /// The area 2π|χ| written exactly as a multiple of π: `2π`, `π/2`, `3π/2`, `π/30`, `0`.
+    ///
+    /// ```
+    /// # use orbifold::Signature;
+    /// let area = |s: &str| s.parse::<Signature>().unwrap().euler_characteristic().area_in_pi();
+    /// assert_eq!(area("*"), "2π");
+    /// assert_eq!(area("*235"), "π/30");
+    /// assert_eq!(area("*22222"), "π/2");
+    /// assert_eq!(area("*2∞∞"), "π/2");
+    /// ```
+    pub fn area_in_pi(&self) -> String {
+        let twice = self.0.abs() * BigRational::from_integer(2.into());
+        let (numer, denom) = (twice.numer().to_string(), twice.denom().to_string());
+        let numer = match numer.as_str() {
+            "0" => return "0".to_string(),
+            "1" => "π".to_string(),
+            n => format!("{n}π"),
+        };
+        if denom == "1" {
+            numer
+        } else {
+            format!("{numer}/{denom}")
+        }
+    }
 }
 
 impl fmt::Display for EulerCharacteristic {

@@ -49,19 +49,15 @@ pub struct SymmetryGroup {
     pub shape_parameters: usize,
 }
 
-fn conway(cones: &[Order], boundaries: &[&[Order]], crosscaps: u32, handles: u32) -> String {
-    let mut cones = cones.to_vec();
-    cones.sort_by(|a, b| b.cmp(a));
-    let boundaries = boundaries
-        .iter()
-        .map(|b| {
-            let mut b = b.to_vec();
-            b.sort_by(|a, c| c.cmp(a));
-            b
-        })
-        .collect();
-    let symbol = OrbifoldSymbol::new(handles, cones, boundaries, crosscaps);
-    symbol.to_string()
+/// A Conway symbol written in the order given (the family's pattern, such as `*22n` or `2*n`).
+fn conway(cones: &[Order], boundaries: &[&[Order]], crosscaps: u32) -> String {
+    OrbifoldSymbol::new(
+        0,
+        cones.to_vec(),
+        boundaries.iter().map(|b| b.to_vec()).collect(),
+        crosscaps,
+    )
+    .to_string()
 }
 
 /// Names the group of a canonical symbol, if it is a classical one.
@@ -169,75 +165,65 @@ fn spherical(s: &OrbifoldSymbol) -> Option<SymmetryGroup> {
     let o = |k: u64| Order::integer(k);
     let group =
         |name: String, conway_symbol: String, description: String, order: u64| SymmetryGroup {
+            description: format!("spherical point group {name}: {description}, of order {order}"),
             name,
             conway: conway_symbol,
             family: GroupFamily::Spherical,
-            description: format!("spherical point group {description}, of order {order}"),
             shape_parameters: 0,
         };
     Some(match (p.cones.as_slice(), b.as_slice(), p.crosscaps) {
-        ([], [], 0) => group("C1".into(), "1".into(), "C1: the trivial group".into(), 1),
+        ([], [], 0) => group("C1".into(), "1".into(), "the trivial group".into(), 1),
         (&[m, n], [], 0) if m == n => group(
             format!("C{n}"),
-            conway(&[o(n), o(n)], &[], 0, 0),
-            "Cn: cyclic (pyramidal rotations)".into(),
+            conway(&[o(n), o(n)], &[], 0),
+            "cyclic (pyramidal rotations)".into(),
             n,
         ),
         (&[2, 2, n], [], 0) => group(
             format!("D{n}"),
-            conway(&[o(2), o(2), o(n)], &[], 0, 0),
-            "Dn: dihedral (prismatic rotations)".into(),
+            conway(&[o(2), o(2), o(n)], &[], 0),
+            "dihedral (prismatic rotations)".into(),
             2 * n,
         ),
-        ([2, 3, 3], [], 0) => group("T".into(), "332".into(), "T: chiral tetrahedral".into(), 12),
-        ([2, 3, 4], [], 0) => group("O".into(), "432".into(), "O: chiral octahedral".into(), 24),
-        ([2, 3, 5], [], 0) => group("I".into(), "532".into(), "I: chiral icosahedral".into(), 60),
-        ([], [], 1) => group("Ci".into(), "×".into(), "Ci: central inversion".into(), 2),
+        ([2, 3, 3], [], 0) => group("T".into(), "332".into(), "chiral tetrahedral".into(), 12),
+        ([2, 3, 4], [], 0) => group("O".into(), "432".into(), "chiral octahedral".into(), 24),
+        ([2, 3, 5], [], 0) => group("I".into(), "532".into(), "chiral icosahedral".into(), 60),
+        ([], [], 1) => group("Ci".into(), "×".into(), "central inversion".into(), 2),
         (&[n], [], 1) => group(
             format!("S{}", 2 * n),
-            conway(&[o(n)], &[], 1, 0),
-            "S2n: rotoreflection (antiprismatic rotations with inversion)".into(),
+            conway(&[o(n)], &[], 1),
+            "rotoreflection (antiprismatic rotations with inversion)".into(),
             2 * n,
         ),
-        ([], [[]], 0) => group("Cs".into(), "*".into(), "Cs: a single mirror".into(), 2),
+        ([], [[]], 0) => group("Cs".into(), "*".into(), "a single mirror".into(), 2),
         ([], &[&[m, n]], 0) if m == n => group(
             format!("C{n}v"),
-            conway(&[], &[&[o(n), o(n)]], 0, 0),
-            "Cnv: pyramidal (mirrors through the axis)".into(),
+            conway(&[], &[&[o(n), o(n)]], 0),
+            "pyramidal (mirrors through the axis)".into(),
             2 * n,
         ),
         (&[n], [[]], 0) => group(
             format!("C{n}h"),
-            conway(&[o(n)], &[&[]], 0, 0),
-            "Cnh: rotations and the equatorial mirror".into(),
+            conway(&[o(n)], &[&[]], 0),
+            "rotations and the equatorial mirror".into(),
             2 * n,
         ),
         ([], &[&[2, 2, n]], 0) => group(
             format!("D{n}h"),
-            conway(&[], &[&[o(2), o(2), o(n)]], 0, 0),
-            "Dnh: prismatic".into(),
+            conway(&[], &[&[o(2), o(2), o(n)]], 0),
+            "prismatic".into(),
             4 * n,
         ),
         (&[2], &[&[n]], 0) => group(
             format!("D{n}d"),
-            conway(&[o(2)], &[&[o(n)]], 0, 0),
-            "Dnd: antiprismatic".into(),
+            conway(&[o(2)], &[&[o(n)]], 0),
+            "antiprismatic".into(),
             4 * n,
         ),
-        ([3], [[2]], 0) => group("Th".into(), "3*2".into(), "Th: pyritohedral".into(), 24),
-        ([], [[2, 3, 3]], 0) => group(
-            "Td".into(),
-            "*332".into(),
-            "Td: full tetrahedral".into(),
-            24,
-        ),
-        ([], [[2, 3, 4]], 0) => group("Oh".into(), "*432".into(), "Oh: full octahedral".into(), 48),
-        ([], [[2, 3, 5]], 0) => group(
-            "Ih".into(),
-            "*532".into(),
-            "Ih: full icosahedral".into(),
-            120,
-        ),
+        ([3], [[2]], 0) => group("Th".into(), "3*2".into(), "pyritohedral".into(), 24),
+        ([], [[2, 3, 3]], 0) => group("Td".into(), "*332".into(), "full tetrahedral".into(), 24),
+        ([], [[2, 3, 4]], 0) => group("Oh".into(), "*432".into(), "full octahedral".into(), 48),
+        ([], [[2, 3, 5]], 0) => group("Ih".into(), "*532".into(), "full icosahedral".into(), 120),
         _ => return None,
     })
 }
