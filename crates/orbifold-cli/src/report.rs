@@ -94,7 +94,7 @@ impl Report {
             euler_characteristic: chi.to_string(),
             geometry: chi.geometry().name(),
             kind: kind.name(),
-            reason: symbol.reason(),
+            reason: canonical.reason(),
             buildable: kaleidoscopic.as_ref().is_some_and(Signature::is_buildable),
             area: symbol.area(),
             group_order: symbol.group_order(),

@@ -172,7 +172,7 @@ fn is_necklace_state(a: &[usize], n: usize) -> bool {
             Ordering::Less => return false,
         }
     }
-    n % p == 0
+    n.is_multiple_of(p)
 }
 
 /// For a necklace `w` (smallest rotation): whether some rotation of its reversal is smaller.
