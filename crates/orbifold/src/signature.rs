@@ -3,8 +3,9 @@
 use std::fmt;
 use std::str::FromStr;
 
-use num_rational::BigRational;
-use num_traits::{One, Zero};
+use num_bigint::BigInt;
+use num_rational::{BigRational, Ratio};
+use num_traits::{CheckedAdd, CheckedDiv, One, Zero};
 
 use crate::euler::{EulerCharacteristic, Geometry};
 use crate::necklace;
@@ -150,11 +151,33 @@ impl Signature {
 
     /// χ = Σ 1/(2kᵢ) − N/2 + 1, exactly (1/∞ = 0).
     pub fn euler_characteristic(&self) -> EulerCharacteristic {
+        match self.small_euler_characteristic() {
+            Some(chi) => EulerCharacteristic::new(BigRational::new_raw(
+                BigInt::from(*chi.numer()),
+                BigInt::from(*chi.denom()),
+            )),
+            None => self.big_euler_characteristic(),
+        }
+    }
+
+    /// χ in 128-bit arithmetic, the common case; `None` if an intermediate value overflows
+    /// (many large coprime orders), in which case [`Self::big_euler_characteristic`] is exact.
+    fn small_euler_characteristic(&self) -> Option<Ratio<i128>> {
+        let mut reciprocals = Ratio::<i128>::zero();
+        for k in &self.corners {
+            if let Order::Finite(r) = k {
+                let reciprocal = Ratio::new_raw(i128::from(*r.denom()), i128::from(*r.numer()));
+                reciprocals = reciprocals.checked_add(&reciprocal)?;
+            }
+        }
+        let n = i128::try_from(self.corners.len()).ok()?;
+        let two_minus_n = Ratio::from_integer(2 - n);
+        two_minus_n.checked_add(&reciprocals)?.checked_div(&Ratio::from_integer(2))
+    }
+
+    fn big_euler_characteristic(&self) -> EulerCharacteristic {
         let two = BigRational::from_integer(2.into());
-        let reciprocals = self
-            .corners
-            .iter()
-            .fold(BigRational::zero(), |sum, k| sum + k.reciprocal());
+        let reciprocals = self.corners.iter().fold(BigRational::zero(), |sum, k| sum + k.reciprocal());
         let n = BigRational::from_integer(self.corners.len().into());
         EulerCharacteristic::new(BigRational::one() + (reciprocals - n) / two)
     }
@@ -162,7 +185,10 @@ impl Signature {
     /// The geometry of the universal cover, by the sign of χ. This agrees with the angle-sum test
     /// Σπ/kᵢ against (N − 2)π, since 2πχ = Σπ/kᵢ − (N − 2)π.
     pub fn geometry(&self) -> Geometry {
-        self.euler_characteristic().geometry()
+        match self.small_euler_characteristic() {
+            Some(chi) => Geometry::from_sign(chi.numer().cmp(&0)),
+            None => self.big_euler_characteristic().geometry(),
+        }
     }
 
     /// The sum of the corner angles Σπ/kᵢ in radians.
@@ -327,5 +353,40 @@ impl FromStr for Signature {
             s.trim().chars().count(),
             ParseErrorKind::NotKaleidoscopic(why),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn order() -> impl Strategy<Value = Order> {
+        prop_oneof![
+            (2u64..=12).prop_map(Order::integer),
+            (1u64..=u64::MAX / 2).prop_map(|k| Order::integer(k + 1)),
+            Just(Order::Infinite),
+            (1u64..=1_000_000, 1u64..=1_000_000).prop_map(|(q, extra)| Order::ratio(q + extra, q).unwrap()),
+        ]
+    }
+
+    proptest! {
+        /// The 128-bit fast path, when it answers, equals the arbitrary-precision computation.
+        #[test]
+        fn fast_and_exact_euler_characteristics_agree(corners in prop::collection::vec(order(), 0..=12)) {
+            let sig = Signature::new(corners).unwrap();
+            let exact = sig.big_euler_characteristic();
+            prop_assert_eq!(sig.euler_characteristic(), exact.clone());
+            prop_assert_eq!(sig.geometry(), exact.geometry());
+        }
+    }
+
+    #[test]
+    fn overflow_falls_back_to_exact_arithmetic() {
+        let primes = [1_000_003u64, 1_000_033, 1_000_037, 1_000_039, 1_000_081, 1_000_099, 1_000_117, 1_000_121];
+        let sig = Signature::from_integers(primes).unwrap();
+        assert!(sig.small_euler_characteristic().is_none());
+        assert_eq!(sig.euler_characteristic(), sig.big_euler_characteristic());
+        assert_eq!(sig.geometry(), Geometry::Hyperbolic);
     }
 }
