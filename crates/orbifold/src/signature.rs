@@ -172,12 +172,17 @@ impl Signature {
         }
         let n = i128::try_from(self.corners.len()).ok()?;
         let two_minus_n = Ratio::from_integer(2 - n);
-        two_minus_n.checked_add(&reciprocals)?.checked_div(&Ratio::from_integer(2))
+        two_minus_n
+            .checked_add(&reciprocals)?
+            .checked_div(&Ratio::from_integer(2))
     }
 
     fn big_euler_characteristic(&self) -> EulerCharacteristic {
         let two = BigRational::from_integer(2.into());
-        let reciprocals = self.corners.iter().fold(BigRational::zero(), |sum, k| sum + k.reciprocal());
+        let reciprocals = self
+            .corners
+            .iter()
+            .fold(BigRational::zero(), |sum, k| sum + k.reciprocal());
         let n = BigRational::from_integer(self.corners.len().into());
         EulerCharacteristic::new(BigRational::one() + (reciprocals - n) / two)
     }
@@ -366,7 +371,8 @@ mod tests {
             (2u64..=12).prop_map(Order::integer),
             (1u64..=u64::MAX / 2).prop_map(|k| Order::integer(k + 1)),
             Just(Order::Infinite),
-            (1u64..=1_000_000, 1u64..=1_000_000).prop_map(|(q, extra)| Order::ratio(q + extra, q).unwrap()),
+            (1u64..=1_000_000, 1u64..=1_000_000)
+                .prop_map(|(q, extra)| Order::ratio(q + extra, q).unwrap()),
         ]
     }
 
@@ -383,7 +389,16 @@ mod tests {
 
     #[test]
     fn overflow_falls_back_to_exact_arithmetic() {
-        let primes = [1_000_003u64, 1_000_033, 1_000_037, 1_000_039, 1_000_081, 1_000_099, 1_000_117, 1_000_121];
+        let primes = [
+            1_000_003u64,
+            1_000_033,
+            1_000_037,
+            1_000_039,
+            1_000_081,
+            1_000_099,
+            1_000_117,
+            1_000_121,
+        ];
         let sig = Signature::from_integers(primes).unwrap();
         assert!(sig.small_euler_characteristic().is_none());
         assert_eq!(sig.euler_characteristic(), sig.big_euler_characteristic());
