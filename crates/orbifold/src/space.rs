@@ -1,0 +1,197 @@
+//! The three constant-curvature planes, written once for κ ∈ {+1, 0, −1} (DESIGN.md §3).
+//!
+//! Points have model coordinates z ∈ ℂ (stereographic plane, Euclidean plane, Poincaré disk,
+//! metric λ(z)|dz| with λ = 2/(1 + κ|z|²)) and ambient coordinates
+//! p = (2x, 2y, 1 − κ|z|²)/(1 + κ|z|²) ∈ ℝ³. A geodesic line (a wall) is the zero set of a linear
+//! form ν on ambient coordinates, normalised so that ν₁² + ν₂² + κν₃² = 1; then S_κ(d) = ν·p is
+//! the signed distance d from the wall to p, positive on the wall's inner side.
+
+use glam::DVec3;
+use num_complex::Complex64;
+
+use crate::euler::Geometry;
+
+/// A plane of constant curvature κ ∈ {+1, 0, −1}.
+///
+/// ```
+/// use orbifold::space::Space;
+/// use orbifold::Geometry;
+/// use num_complex::Complex64;
+/// let h = Space::new(Geometry::Hyperbolic);
+/// // The intrinsic distance from 0 to z is 2·artanh|z| in the Poincaré disk.
+/// let z = Complex64::new(0.5, 0.0);
+/// assert!((h.distance(Complex64::new(0.0, 0.0), z) - 2.0 * 0.5f64.atanh()).abs() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Space {
+    kappa: f64,
+}
+
+/// A geodesic drawn in model coordinates: a circle, or a straight line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ModelGeodesic {
+    /// The circle with this centre and radius.
+    Circle {
+        /// Centre in model coordinates.
+        centre: Complex64,
+        /// Radius in model coordinates.
+        radius: f64,
+    },
+    /// The straight line through `point` with unit direction `direction`.
+    Line {
+        /// A point of the line (the one closest to the origin).
+        point: Complex64,
+        /// A unit direction.
+        direction: Complex64,
+    },
+}
+
+impl Space {
+    /// The plane of the given geometry.
+    pub fn new(geometry: Geometry) -> Self {
+        Space {
+            kappa: f64::from(geometry.curvature()),
+        }
+    }
+
+    /// The curvature κ.
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
+    /// The geometry.
+    pub fn geometry(&self) -> Geometry {
+        match self.kappa {
+            k if k > 0.0 => Geometry::Spherical,
+            k if k < 0.0 => Geometry::Hyperbolic,
+            _ => Geometry::Euclidean,
+        }
+    }
+
+    /// C_κ(s): cos s, 1, cosh s.
+    pub fn cos(&self, s: f64) -> f64 {
+        match self.kappa {
+            k if k > 0.0 => s.cos(),
+            k if k < 0.0 => s.cosh(),
+            _ => 1.0,
+        }
+    }
+
+    /// S_κ(s): sin s, s, sinh s.
+    pub fn sin(&self, s: f64) -> f64 {
+        match self.kappa {
+            k if k > 0.0 => s.sin(),
+            k if k < 0.0 => s.sinh(),
+            _ => s,
+        }
+    }
+
+    /// T_κ(s): tan s, s, tanh s.
+    pub fn tan(&self, s: f64) -> f64 {
+        match self.kappa {
+            k if k > 0.0 => s.tan(),
+            k if k < 0.0 => s.tanh(),
+            _ => s,
+        }
+    }
+
+    /// The inverse of T_κ: atan, identity, artanh.
+    pub fn atan(&self, x: f64) -> f64 {
+        match self.kappa {
+            k if k > 0.0 => x.atan(),
+            k if k < 0.0 => x.atanh(),
+            _ => x,
+        }
+    }
+
+    /// The inverse of S_κ: asin, identity, arsinh.
+    pub fn asin(&self, x: f64) -> f64 {
+        match self.kappa {
+            k if k > 0.0 => x.clamp(-1.0, 1.0).asin(),
+            k if k < 0.0 => x.asinh(),
+            _ => x,
+        }
+    }
+
+    /// The conformal factor λ(z) = 2/(1 + κ|z|²).
+    pub fn conformal_factor(&self, z: Complex64) -> f64 {
+        2.0 / (1.0 + self.kappa * z.norm_sqr())
+    }
+
+    /// Ambient coordinates of a model point.
+    pub fn to_ambient(&self, z: Complex64) -> DVec3 {
+        let r2 = z.norm_sqr();
+        let d = 1.0 + self.kappa * r2;
+        DVec3::new(2.0 * z.re / d, 2.0 * z.im / d, (1.0 - self.kappa * r2) / d)
+    }
+
+    /// Model coordinates of an ambient point: z = (p₁ + i p₂)/(1 + p₃). For a null direction of
+    /// the hyperboloid (an ideal point) pass [`Space::ideal_to_model`] instead.
+    pub fn to_model(&self, p: DVec3) -> Complex64 {
+        Complex64::new(p.x, p.y) / (1.0 + p.z)
+    }
+
+    /// The ideal point (on the unit circle) in the direction of a future-pointing null vector.
+    pub fn ideal_to_model(&self, q: DVec3) -> Complex64 {
+        let z = Complex64::new(q.x, q.y);
+        z / z.norm()
+    }
+
+    /// The bilinear form on ambient points: p₁q₁ + p₂q₂ + κp₃q₃ (the dot product on the sphere,
+    /// the Minkowski form on the hyperboloid).
+    pub fn point_dot(&self, p: DVec3, q: DVec3) -> f64 {
+        p.x * q.x + p.y * q.y + self.kappa * p.z * q.z
+    }
+
+    /// The dual form on walls (linear forms): ν₁μ₁ + ν₂μ₂ + κν₃μ₃. For two walls with inner
+    /// normals that meet, the inner angle α between them has cos α = −dual_dot(ν, μ); for
+    /// ultraparallel hyperbolic walls −dual_dot = cosh(distance).
+    pub fn wall_dot(&self, nu: DVec3, mu: DVec3) -> f64 {
+        nu.x * mu.x + nu.y * mu.y + self.kappa * nu.z * mu.z
+    }
+
+    /// Scales a linear form so that ν₁² + ν₂² + κν₃² = 1.
+    pub fn normalize_wall(&self, nu: DVec3) -> DVec3 {
+        nu / self.wall_dot(nu, nu).sqrt()
+    }
+
+    /// The intrinsic distance between two model points: 2·atan_κ|(w − z)/(1 + κ z̄ w)|.
+    pub fn distance(&self, z: Complex64, w: Complex64) -> f64 {
+        let q = (w - z) / (1.0 + self.kappa * z.conj() * w);
+        2.0 * self.atan(q.norm())
+    }
+
+    /// The signed distance from a wall to a model point (positive on the inner side).
+    pub fn signed_distance(&self, nu: DVec3, z: Complex64) -> f64 {
+        self.asin(nu.dot(self.to_ambient(z)))
+    }
+
+    /// The wall as drawn in model coordinates: −κν₃|z|² + 2(ν₁x + ν₂y) + ν₃ = 0.
+    pub fn model_geodesic(&self, nu: DVec3) -> ModelGeodesic {
+        let a = -self.kappa * nu.z;
+        let b = Complex64::new(nu.x, nu.y);
+        if a.abs() <= 1e-12 * b.norm() {
+            // 2 Re(b̄ z) + ν₃ = 0: the line with normal b̂ at signed offset −ν₃/(2|b|).
+            let n = b / b.norm();
+            ModelGeodesic::Line {
+                point: -n * (nu.z / (2.0 * b.norm())),
+                direction: Complex64::new(-n.im, n.re),
+            }
+        } else {
+            // |z|² + 2 Re(b̄ z)/a + ν₃/a = 0: centre −b/a, radius² = |b|²/a² − ν₃/a, which for a
+            // normalised wall (|b|² + κν₃² = 1) is 1/ν₃²: no cancellation for far walls.
+            let centre = -b / a;
+            let radius = 1.0 / self.normalize_wall(nu).z.abs();
+            ModelGeodesic::Circle { centre, radius }
+        }
+    }
+
+    /// The unit tangent direction, in model coordinates, of the geodesic from `z` towards `w`
+    /// (towards an ideal point `w` too).
+    pub fn direction(&self, z: Complex64, w: Complex64) -> Complex64 {
+        // Move z to the origin by the isometry m(ζ) = (ζ − z)/(1 + κ z̄ ζ), whose derivative at z is
+        // real and positive; there the geodesic is the ray towards m(w).
+        let image = (w - z) / (1.0 + self.kappa * z.conj() * w);
+        image / image.norm()
+    }
+}
