@@ -33,7 +33,26 @@ pub enum Command {
     /// List every good kaleidoscopic orbifold with N corners and bounded orders, or Table 4.1.
     #[command(after_help = ENUMERATE_EXAMPLES)]
     Enumerate(EnumerateArgs),
+    /// Construct the polygon of a signature in its geometry; print it, or draw it as SVG or PNG.
+    #[command(after_help = LAYOUT_EXAMPLES)]
+    Layout(LayoutArgs),
 }
+
+const LAYOUT_EXAMPLES: &str = "\
+The polygon is drawn in model coordinates: the stereographic plane (spherical), the Euclidean
+plane, or the Poincaré disk (hyperbolic). Vertex i has the i-th order of the signature as typed;
+wall i joins vertex i to vertex i+1. Ideal corners (∞) lie exactly on the unit circle.
+
+Free parameters: *2222 has one, the ratio of wall 0's length to wall 1's. A hyperbolic N-gon has
+N−3: parameter j (j = 1…N−3) sets the distance between wall N−1 and wall j to its value in the
+balanced polygon (the one with an inscribed circle) times the 8th root of the parameter. Every
+positive value gives a valid polygon; all 1 is the balanced polygon; the default is 1.4 each.
+
+Examples:
+  orbifold layout '*2333'
+  orbifold layout '*22222' --params 1,3 --json
+  orbifold layout '*∞∞∞∞∞' --shape incircle -o ideal.svg
+  orbifold layout '*235' --at 0.3,-0.1 --angle 30 -o tile.png --size 600";
 
 const INFO_EXAMPLES: &str = "\
 Accepted notation:
@@ -92,4 +111,51 @@ pub struct EnumerateArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Which polygon to build when no parameters are given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShapeArg {
+    /// Every free parameter at its default, 1.4.
+    Default,
+    /// The unique polygon with an inscribed circle: the most balanced shape.
+    Incircle,
+}
+
+#[derive(Debug, Args)]
+pub struct LayoutArgs {
+    /// The kaleidoscopic signature, such as `*2333`, `*∞∞∞` or `*(3/2)33`.
+    #[arg(value_name = "SIG")]
+    pub signature: String,
+    /// The free shape parameters, comma-separated, each a positive number.
+    #[arg(
+        long,
+        value_name = "A,B,…",
+        allow_hyphen_values = true,
+        conflicts_with = "shape"
+    )]
+    pub params: Option<String>,
+    /// The shape when no parameters are given.
+    #[arg(long, value_enum, default_value = "default")]
+    pub shape: ShapeArg,
+    /// Where to put the polygon's centre, in model coordinates.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub at: Option<String>,
+    /// Turn the polygon about its centre by this many degrees (counter-clockwise).
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        allow_hyphen_values = true
+    )]
+    pub angle: f64,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Draw the layout to this file: `.svg` or `.png`.
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: Option<std::path::PathBuf>,
+    /// The picture's width in pixels.
+    #[arg(long, value_name = "PX", default_value_t = 800, value_parser = clap::value_parser!(u32).range(64..=8192))]
+    pub size: u32,
 }

@@ -5,6 +5,7 @@ mod args;
 mod commands;
 mod error;
 mod output;
+mod picture;
 mod report;
 
 use std::process::ExitCode;
@@ -19,6 +20,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => commands::info::run(&args),
         Command::Enumerate(args) => commands::enumerate::run(&args),
+        Command::Layout(args) => commands::layout::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

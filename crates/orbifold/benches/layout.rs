@@ -17,11 +17,18 @@ fn layouts(c: &mut Criterion) {
         ("100-gon incircle", &hundred, Shape::Incircle),
     ];
     for (name, sig, shape) in cases {
-        let options = LayoutOptions { shape, ..LayoutOptions::default() };
-        c.bench_function(&format!("layout {name}"), |b| b.iter(|| Layout::new(black_box(sig), &options).unwrap()));
+        let options = LayoutOptions {
+            shape,
+            ..LayoutOptions::default()
+        };
+        c.bench_function(&format!("layout {name}"), |b| {
+            b.iter(|| Layout::new(black_box(sig), &options).unwrap())
+        });
     }
     let triangle: Signature = "*237".parse().unwrap();
-    c.bench_function("layout *237", |b| b.iter(|| Layout::new(black_box(&triangle), &LayoutOptions::default()).unwrap()));
+    c.bench_function("layout *237", |b| {
+        b.iter(|| Layout::new(black_box(&triangle), &LayoutOptions::default()).unwrap())
+    });
 }
 
 criterion_group!(benches, layouts);

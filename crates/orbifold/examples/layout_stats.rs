@@ -35,7 +35,7 @@ fn main() {
         let params: Vec<f64> = (0..n.saturating_sub(3))
             .map(|_| 0.05 + rnd() * 9.95)
             .collect();
-        let at = Complex64::from_polar(rnd() * 0.9, rnd() * 6.28);
+        let at = Complex64::from_polar(rnd() * 0.9, rnd() * std::f64::consts::TAU);
         let l = Layout::new(
             &s,
             &LayoutOptions {

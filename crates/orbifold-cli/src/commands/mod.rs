@@ -2,3 +2,4 @@
 
 pub mod enumerate;
 pub mod info;
+pub mod layout;

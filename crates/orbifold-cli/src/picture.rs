@@ -1,0 +1,254 @@
+//! Pictures of layouts as SVG (and PNG, rendered from the SVG): the model's boundary, the polygon
+//! with each wall in its own colour drawn as a true geodesic arc, the corner orders, the
+//! signature and χ, and the placement arrow (the seed's Fig. 5.2 and 6.11).
+
+use std::fmt::Write;
+
+use num_complex::Complex64;
+use orbifold::Geometry;
+use orbifold::layout::{Layout, Vertex};
+use orbifold::space::{ModelGeodesic, Space};
+
+/// Colours for the walls, repeated when there are more walls.
+const PALETTE: [&str; 10] = [
+    "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+    "#bcbd22", "#7f7f7f",
+];
+
+/// Maps model coordinates to pixels (y up in the model, down on screen).
+struct View {
+    centre: Complex64,
+    scale: f64,
+    size: f64,
+}
+
+impl View {
+    fn fit(layout: &Layout, size: f64) -> View {
+        let mut points: Vec<Complex64> = layout.vertices.iter().map(|v| v.position).collect();
+        if layout.geometry != Geometry::Euclidean {
+            points.extend([1.0, -1.0].map(|x| Complex64::new(x, 0.0)));
+            points.extend([1.0, -1.0].map(|y| Complex64::new(0.0, y)));
+        }
+        let (mut lo, mut hi) = (points[0], points[0]);
+        for p in &points {
+            lo = Complex64::new(lo.re.min(p.re), lo.im.min(p.im));
+            hi = Complex64::new(hi.re.max(p.re), hi.im.max(p.im));
+        }
+        let extent = (hi.re - lo.re).max(hi.im - lo.im).max(1e-9);
+        View {
+            centre: (lo + hi) / 2.0,
+            scale: 0.84 * size / extent,
+            size,
+        }
+    }
+
+    fn px(&self, z: Complex64) -> (f64, f64) {
+        let d = (z - self.centre) * self.scale;
+        (self.size / 2.0 + d.re, self.size / 2.0 + 24.0 - d.im)
+    }
+}
+
+/// A point on wall `i` between its corners, to say which arc of its circle is the side.
+fn side_midpoint(layout: &Layout, space: Space, i: usize) -> Option<Complex64> {
+    let n = layout.vertices.len();
+    let (a, b) = (layout.vertices[i], layout.vertices[(i + 1) % n]);
+    if n == 2 || a.ideal || b.ideal {
+        // Lunes join antipodes, and ideal ends are infinitely far: use the wall's point nearest
+        // the centre, which lies between the corners.
+        return Some(match layout.edges[i].geodesic {
+            ModelGeodesic::Circle { centre, radius } => {
+                let towards = layout.centre - centre;
+                centre + towards / towards.norm() * radius
+            }
+            ModelGeodesic::Line { point, .. } => point,
+        });
+    }
+    // The geodesic midpoint: move a to the origin, halve the distance along the ray, move back.
+    let to_origin = |z: Complex64| (z - a.position) / (1.0 + space.kappa() * a.position.conj() * z);
+    let from_origin =
+        |z: Complex64| (z + a.position) / (1.0 - space.kappa() * a.position.conj() * z);
+    let image = to_origin(b.position);
+    let d = space.distance(Complex64::new(0.0, 0.0), image);
+    let half = image / image.norm() * space.tan(d / 4.0);
+    let half = if space.kappa() == 0.0 {
+        image / 2.0
+    } else {
+        half
+    };
+    Some(from_origin(half))
+}
+
+/// The SVG path command that draws wall `i` from its first corner to its second.
+fn side_path(layout: &Layout, view: &View, i: usize, start: bool) -> String {
+    let space = layout.space();
+    let n = layout.vertices.len();
+    let (a, b) = (
+        layout.vertices[i].position,
+        layout.vertices[(i + 1) % n].position,
+    );
+    let (ax, ay) = view.px(a);
+    let (bx, by) = view.px(b);
+    let mut path = if start {
+        format!("M {ax:.2} {ay:.2} ")
+    } else {
+        String::new()
+    };
+    match (layout.edges[i].geodesic, side_midpoint(layout, space, i)) {
+        (ModelGeodesic::Circle { centre, radius }, Some(mid)) if radius * view.scale < 1e6 => {
+            let cross = (mid - a).re * (b - mid).im - (mid - a).im * (b - mid).re;
+            let angle = |p: Complex64, q: Complex64| ((p - centre) / (q - centre)).arg().abs();
+            let large = angle(a, mid) + angle(mid, b) > std::f64::consts::PI;
+            let r = radius * view.scale;
+            let _ = write!(
+                path,
+                "A {r:.2} {r:.2} 0 {} {} {bx:.2} {by:.2}",
+                u8::from(large),
+                u8::from(cross < 0.0)
+            );
+        }
+        _ => {
+            let _ = write!(path, "L {bx:.2} {by:.2}");
+        }
+    }
+    path
+}
+
+fn order_label(v: &Vertex) -> String {
+    v.order.to_string()
+}
+
+/// The SVG document of a layout, `size` pixels wide.
+pub fn layout_svg(layout: &Layout, title: &str, size: u32) -> String {
+    let size_f = f64::from(size);
+    let view = View::fit(layout, size_f);
+    let height = size + 24;
+    let mut svg = String::new();
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{height}" viewBox="0 0 {size} {height}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+    );
+    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        svg,
+        r#"<text x="12" y="22" font-size="16">{}</text>"#,
+        escape(title)
+    );
+    if layout.geometry != Geometry::Euclidean {
+        let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="#f4f6fa" stroke="#888" stroke-width="1.5" stroke-dasharray="6 4"/>"##,
+            view.scale
+        );
+    }
+    let n = layout.vertices.len();
+    if n == 0 {
+        // `*`: the whole equator is the mirror.
+        let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
+        let _ = writeln!(
+            svg,
+            r#"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="{}" fill-opacity="0.12" stroke="{}" stroke-width="4"/>"#,
+            view.scale, PALETTE[0], PALETTE[0]
+        );
+    } else {
+        let outline: String = (0..n)
+            .map(|i| side_path(layout, &view, i, i == 0))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let _ = writeln!(
+            svg,
+            r##"<path d="{outline} Z" fill="#ffd9b3" fill-opacity="0.6" stroke="none"/>"##
+        );
+        for i in 0..n {
+            let colour = PALETTE[i % PALETTE.len()];
+            let _ = writeln!(
+                svg,
+                r#"<path d="{}" fill="none" stroke="{colour}" stroke-width="3.5" stroke-linecap="round"><title>wall {i}</title></path>"#,
+                side_path(layout, &view, i, true)
+            );
+            if let Some(mid) = side_midpoint(layout, layout.space(), i) {
+                let (mx, my) = view.px(mid);
+                let (ox, oy) = outward(&view, layout, mid, 14.0);
+                let _ = writeln!(
+                    svg,
+                    r#"<text x="{:.2}" y="{:.2}" font-size="12" fill="{colour}" text-anchor="middle" dominant-baseline="middle">{i}</text>"#,
+                    mx + ox,
+                    my + oy
+                );
+            }
+        }
+        for v in &layout.vertices {
+            let (x, y) = view.px(v.position);
+            let (ox, oy) = outward(&view, layout, v.position, 16.0);
+            let _ = writeln!(
+                svg,
+                r#"<circle cx="{x:.2}" cy="{y:.2}" r="4" fill="black"/>"#
+            );
+            let _ = writeln!(
+                svg,
+                r#"<text x="{:.2}" y="{:.2}" font-size="15" font-weight="bold" text-anchor="middle" dominant-baseline="middle">{}</text>"#,
+                x + ox,
+                y + oy,
+                escape(&order_label(v))
+            );
+        }
+    }
+    // The placement arrow: from the centre, in the heading direction.
+    let (cx, cy) = view.px(layout.centre);
+    let tip = (
+        cx + 40.0 * layout.heading.cos(),
+        cy - 40.0 * layout.heading.sin(),
+    );
+    let _ = writeln!(
+        svg,
+        r#"<g stroke="crimson" fill="crimson"><circle cx="{cx:.2}" cy="{cy:.2}" r="4"/><line x1="{cx:.2}" y1="{cy:.2}" x2="{:.2}" y2="{:.2}" stroke-width="3"/>{}</g>"#,
+        tip.0,
+        tip.1,
+        arrow_head(tip, layout.heading)
+    );
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// A pixel offset pointing away from the layout's centre, for labels.
+fn outward(view: &View, layout: &Layout, z: Complex64, length: f64) -> (f64, f64) {
+    let (x, y) = view.px(z);
+    let (cx, cy) = view.px(layout.centre);
+    let (dx, dy) = (x - cx, y - cy);
+    let norm = (dx * dx + dy * dy).sqrt().max(1e-9);
+    (dx / norm * length, dy / norm * length)
+}
+
+fn arrow_head(tip: (f64, f64), heading: f64) -> String {
+    let back = |turn: f64| {
+        let a = heading + std::f64::consts::PI + turn;
+        (tip.0 + 12.0 * a.cos(), tip.1 - 12.0 * a.sin())
+    };
+    let (l, r) = (back(0.45), back(-0.45));
+    format!(
+        r#"<polygon points="{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}"/>"#,
+        tip.0, tip.1, l.0, l.1, r.0, r.1
+    )
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Renders an SVG document to PNG bytes (text with the system's fonts, where it has any).
+pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, String> {
+    use resvg::{tiny_skia, usvg};
+    let mut options = usvg::Options::default();
+    options.fontdb_mut().load_system_fonts();
+    let tree = usvg::Tree::from_str(svg, &options)
+        .map_err(|e| format!("cannot render the picture: {e}"))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height())
+        .ok_or_else(|| format!("cannot render a {}×{} picture", size.width(), size.height()))?;
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("cannot encode the PNG: {e}"))
+}
