@@ -275,6 +275,38 @@ fn seed_examples() {
 }
 
 #[test]
+fn non_orbifold_hyperbolic_rooms() {
+    for s in [
+        "*22(3/2)222",
+        "*(3/2)22222",
+        "*(3/2)(3/2)(3/2)(3/2)(3/2)(3/2)(3/2)",
+        "*2(5/4)2(5/4)2(5/4)2",
+        "*(7/5)∞∞",
+        "*(5/4)(3/2)22∞",
+    ] {
+        for shape in [Shape::Default, Shape::Incircle] {
+            let l = layout(s, shape);
+            assert_eq!(l.geometry, Geometry::Hyperbolic, "{s}");
+            check(&l);
+        }
+    }
+    check(&layout(
+        "*22(3/2)222",
+        Shape::Parameters(vec![0.3, 4.0, 2.0]),
+    ));
+    let err = Layout::new(
+        &sig("*(3/2)22222"),
+        &LayoutOptions {
+            shape: Shape::Parameters(vec![1.0; 3]),
+            ..LayoutOptions::default()
+        },
+    );
+    assert!(
+        matches!(err, Err(LayoutError::Unsupported(message)) if message.contains("--shape incircle"))
+    );
+}
+
+#[test]
 fn parameters_scale_the_wall_distances_of_the_balanced_polygon() {
     let distances = |l: &Layout| {
         let space = l.space();
@@ -400,6 +432,24 @@ proptest! {
         // Placement is an isometry: the sides keep their lengths.
         for (ea, eb) in a.edges.iter().zip(&b.edges) {
             prop_assert!(ea.length == eb.length || (ea.length - eb.length).abs() < 1e-7 * ea.length.max(1.0));
+        }
+    }
+
+    /// Non-orbifold corners, obtuse ones included, wherever the comb accepts them.
+    #[test]
+    fn random_non_orbifold_polygons(
+        orders in prop::collection::vec((1u64..=6, 1u64..=40), 3..=12),
+        raw in prop::collection::vec(0.05f64..10.0, 9),
+    ) {
+        let corners = orders.iter().map(|&(q, extra)| Order::ratio(q + extra, q).unwrap());
+        let s = Signature::new(corners).unwrap();
+        prop_assume!(s.geometry() == Geometry::Hyperbolic);
+        let n = s.corner_count();
+        check(&Layout::new(&s, &LayoutOptions { shape: Shape::Incircle, ..LayoutOptions::default() }).unwrap());
+        let with_params = Layout::new(&s, &LayoutOptions { shape: Shape::Parameters(raw[..n.saturating_sub(3)].to_vec()), ..LayoutOptions::default() });
+        match with_params {
+            Ok(l) => check(&l),
+            Err(e) => prop_assert!(matches!(e, LayoutError::Unsupported(_)), "{e}"),
         }
     }
 

@@ -61,6 +61,15 @@ pub(crate) fn polygon_relative(
     Ok(raw)
 }
 
+/// Whether the comb can build these angles: corners 0, 1, N−2 and N−1, which lie in the two end
+/// quadrilaterals, must be at most right angles (always true for orbifolds).
+pub(crate) fn accepts(angles: &[f64]) -> bool {
+    let n = angles.len();
+    [0, 1, n - 2, n - 1]
+        .iter()
+        .all(|&j| angles[j] <= std::f64::consts::FRAC_PI_2)
+}
+
 /// The polygon with these corner angles and comb distances (all positive).
 pub(crate) fn polygon(
     angles: &[f64],
@@ -69,9 +78,12 @@ pub(crate) fn polygon(
 ) -> Result<RawPolygon, LayoutError> {
     let n = angles.len();
     debug_assert_eq!(parameters.len(), n - 3);
-    if let Some(j) =
-        (0..n).find(|&j| angles[j] > std::f64::consts::FRAC_PI_2 && (j <= 1 || j >= n - 2))
-    {
+    if !accepts(angles) {
+        let ends = [0, 1, n - 2, n - 1];
+        let j = ends
+            .into_iter()
+            .find(|&j| angles[j] > std::f64::consts::FRAC_PI_2)
+            .unwrap_or(0);
         return Err(LayoutError::Unsupported(format!(
             "corner {j} is obtuse, and the free parameters need corners 0, 1, {} and {} to be at most right angles; \
              use --shape incircle, or read the signature from another corner",

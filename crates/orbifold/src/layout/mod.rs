@@ -317,6 +317,9 @@ fn build(
         }
         (Geometry::Hyperbolic, _) => match shape {
             Shape::Incircle => incircle::polygon(space, angles, ideal),
+            // Obtuse end corners (non-orbifold rooms) leave the comb undefined; without explicit
+            // parameters the balanced polygon is the natural default there.
+            Shape::Default if !comb::accepts(angles) => incircle::polygon(space, angles, ideal),
             Shape::Default => {
                 comb::polygon_relative(angles, ideal, &vec![DEFAULT_PARAMETER; n - 3])
             }
