@@ -17,7 +17,11 @@ fn main() {
     };
     let (mut fails, mut total, mut worst) = (0, 0, 0.0f64);
     let mut far = Vec::new();
-    while total < 3000 {
+    let samples: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(3000);
+    while total < samples {
         let n = 3 + (rnd() * 28.0) as usize;
         let corners: Vec<Order> = (0..n)
             .map(|_| {
@@ -56,6 +60,22 @@ fn main() {
             let prev = l.vertices[(i + n - 1) % n].position;
             let a = (sp.direction(v.position, prev) / sp.direction(v.position, next)).arg();
             err = err.max((a - v.angle).abs());
+            // And between the walls' drawn geodesics at the corner.
+            let tangent = |g: &orbifold::space::ModelGeodesic, towards: Complex64| {
+                let t = match *g {
+                    orbifold::space::ModelGeodesic::Circle { centre, .. } => {
+                        Complex64::i() * (v.position - centre)
+                    }
+                    orbifold::space::ModelGeodesic::Line { direction, .. } => direction,
+                };
+                if (t * towards.conj()).re < 0.0 { -t } else { t }
+            };
+            let t_next = tangent(&l.edges[i].geodesic, sp.direction(v.position, next));
+            let t_prev = tangent(
+                &l.edges[(i + n - 1) % n].geodesic,
+                sp.direction(v.position, prev),
+            );
+            err = err.max(((t_prev / t_next).arg() - v.angle).abs());
             maxd = maxd.max(sp.distance(l.centre, v.position));
         }
         total += 1;

@@ -128,9 +128,10 @@ impl Isometry {
         self.space.ideal_to_model(q)
     }
 
-    /// The image of a wall (a linear form on ambient coordinates): ν ↦ ν M⁻¹, renormalised.
+    /// The image of a wall (a linear form on ambient coordinates): ν ↦ ν M⁻¹. An isometry keeps a
+    /// normalised wall normalised; renormalising would only add error, because for a far wall
+    /// ν₁² + ν₂² + κν₃² cancels large terms.
     pub fn apply_wall(&self, nu: DVec3) -> DVec3 {
-        let image = self.inverse().matrix.transpose() * nu;
-        self.space.normalize_wall(image)
+        self.inverse().matrix.transpose() * nu
     }
 }

@@ -166,7 +166,8 @@ impl Space {
         self.asin(nu.dot(self.to_ambient(z)))
     }
 
-    /// The wall as drawn in model coordinates: −κν₃|z|² + 2(ν₁x + ν₂y) + ν₃ = 0.
+    /// The wall as drawn in model coordinates: −κν₃|z|² + 2(ν₁x + ν₂y) + ν₃ = 0. The wall must be
+    /// normalised ([`Space::normalize_wall`]); isometries keep it so.
     pub fn model_geodesic(&self, nu: DVec3) -> ModelGeodesic {
         let a = -self.kappa * nu.z;
         let b = Complex64::new(nu.x, nu.y);
@@ -181,7 +182,7 @@ impl Space {
             // |z|² + 2 Re(b̄ z)/a + ν₃/a = 0: centre −b/a, radius² = |b|²/a² − ν₃/a, which for a
             // normalised wall (|b|² + κν₃² = 1) is 1/ν₃²: no cancellation for far walls.
             let centre = -b / a;
-            let radius = 1.0 / self.normalize_wall(nu).z.abs();
+            let radius = 1.0 / nu.z.abs();
             ModelGeodesic::Circle { centre, radius }
         }
     }

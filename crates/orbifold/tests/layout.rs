@@ -291,7 +291,7 @@ fn non_orbifold_hyperbolic_rooms() {
         }
     }
     check(&layout(
-        "*22(3/2)222",
+        "*22(5/2)222",
         Shape::Parameters(vec![0.3, 4.0, 2.0]),
     ));
     let err = Layout::new(

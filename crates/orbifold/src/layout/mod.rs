@@ -317,7 +317,7 @@ fn build(
         }
         (Geometry::Hyperbolic, _) => match shape {
             Shape::Incircle => incircle::polygon(space, angles, ideal),
-            // Obtuse end corners (non-orbifold rooms) leave the comb undefined; without explicit
+            // Obtuse corners (non-orbifold rooms) leave the comb undefined; without explicit
             // parameters the balanced polygon is the natural default there.
             Shape::Default if !comb::accepts(angles) => incircle::polygon(space, angles, ideal),
             Shape::Default => {
