@@ -21,9 +21,11 @@
 //! ```
 
 pub mod conway;
+pub mod cover;
 pub mod enumerate;
 pub mod euler;
 pub mod groups;
+pub mod growth;
 pub mod isometry;
 pub mod layout;
 pub mod necklace;

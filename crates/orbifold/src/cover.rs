@@ -1,0 +1,534 @@
+//! The universal cover: every tile of the reflection group's tiling exactly once (DESIGN.md §6).
+//!
+//! Tiles are group elements g, reached breadth-first by word length; the neighbour of g across its
+//! wall t is g·r_t. Deduplication is combinatorial, with no coordinates compared. For each tile
+//! and each corner j (walls j−1, j, order k) we keep hⱼ, the length of the tile's part in the
+//! corner's dihedral group ⟨r_{j−1}, r_j⟩ (its distance, in the cycle of 2k tiles around that
+//! vertex, from the cycle's tile nearest the base), and which wall that part ends with. Wall s is
+//! a descent (crossing it goes back towards the base) exactly when some corner of s has hⱼ = k or
+//! ends with s. A tile has one descent, or two at a corner whose cycle it tops (hⱼ = k), or — only
+//! in finite groups — three. It is generated only from the neighbour across its smallest descent,
+//! so each tile is produced exactly once.
+//!
+//! Crossing wall t (an ascent) raises h by one at the two corners on t. At the corner beyond a
+//! corner that becomes full, h becomes 1 (the tile has one more descent there); every other corner
+//! starts again at 0, because a tile's descents generate a finite group, and two walls that do not
+//! meet generate an infinite one.
+
+use glam::{DMat3, DVec3};
+
+use crate::euler::Geometry;
+use crate::growth::growth_series;
+use crate::layout::Layout;
+use crate::signature::{Kind, Signature};
+use crate::space::Space;
+
+/// How far to enumerate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bound {
+    /// Every tile of word length at most this.
+    Depth(usize),
+    /// At most this many tiles, whole depths first (a depth that would exceed it is left out).
+    Tiles(usize),
+    /// Every tile whose centre is within this intrinsic distance of the base tile's centre.
+    Radius(f64),
+    /// Everything: only for finite (spherical) groups.
+    All,
+}
+
+/// One tile: the group element that carries the base polygon onto it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tile {
+    /// The isometry as a 3×3 matrix on ambient coordinates.
+    pub matrix: DMat3,
+    /// Word length: the distance from the base tile in the dual graph.
+    pub depth: u32,
+    /// Whether the isometry reverses orientation (odd word length).
+    pub reflected: bool,
+    /// The wall (of this tile) across which it was reached from its parent; `None` for the base.
+    pub wall: Option<u32>,
+}
+
+/// Why a cover cannot be enumerated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CoverError {
+    /// Not a good orbifold: no reflection group.
+    NotAnOrbifold(String),
+    /// An infinite cover requested without a bound.
+    Unbounded(Geometry),
+    /// The request would need more memory than allowed.
+    TooLarge {
+        /// Tiles it would produce (or hold at once).
+        tiles: u128,
+        /// Bytes that would take.
+        bytes: u128,
+        /// The budget in bytes.
+        budget: u128,
+    },
+    /// The polygon cannot be laid out.
+    Layout(String),
+    /// Tiles so far from the base that double precision can no longer certify a triangle group's
+    /// descent test.
+    Precision {
+        /// The first depth where a test could not be certified.
+        depth: usize,
+    },
+}
+
+impl std::fmt::Display for CoverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CoverError::NotAnOrbifold(why) => write!(f, "no universal cover: {why}"),
+            CoverError::Unbounded(g) => write!(
+                f,
+                "the {g} cover is infinite; bound it with a depth, a radius or a tile budget"
+            ),
+            CoverError::TooLarge {
+                tiles,
+                bytes,
+                budget,
+            } => write!(
+                f,
+                "refused before starting: {tiles} tiles would need about {} MiB, over the budget of {} MiB",
+                bytes >> 20,
+                budget >> 20
+            ),
+            CoverError::Layout(why) => write!(f, "cannot lay out the polygon: {why}"),
+            CoverError::Precision { depth } => write!(
+                f,
+                "tiles at depth {depth} lie too far from the base for double precision to tell which way their walls face; \
+                 ask for a smaller depth or radius"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for CoverError {}
+
+/// The combinatorial structure of the group: corners as pairs of walls with their orders.
+#[derive(Clone, Debug)]
+struct Corners {
+    walls: usize,
+    /// For corner j: (first wall, second wall, order k; u32::MAX for ∞).
+    corners: Vec<(usize, usize, u32)>,
+    /// For wall t: the corner before it (walls t−1, t) and after it (walls t, t+1).
+    around: Vec<(usize, usize)>,
+}
+
+impl Corners {
+    fn new(signature: &Signature) -> Self {
+        let orders: Vec<u32> = signature
+            .corners()
+            .iter()
+            .map(|k| {
+                k.as_integer()
+                    .map_or(u32::MAX, |k| u32::try_from(k).unwrap_or(u32::MAX))
+            })
+            .collect();
+        let n = orders.len();
+        if n == 0 {
+            // `*`: one wall, and its reflection is an involution (a "corner" of order 1).
+            return Corners {
+                walls: 1,
+                corners: vec![(0, 0, 1)],
+                around: vec![(0, 0)],
+            };
+        }
+        if n == 2 {
+            // A lune: both corners are the same dihedral group ⟨r₀, r₁⟩.
+            return Corners {
+                walls: 2,
+                corners: vec![(0, 1, orders[0])],
+                around: vec![(0, 0), (0, 0)],
+            };
+        }
+        // Corner j sits between wall j−1 and wall j.
+        let corners = (0..n).map(|j| ((j + n - 1) % n, j, orders[j])).collect();
+        let around = (0..n).map(|t| (t, (t + 1) % n)).collect();
+        Corners {
+            walls: n,
+            corners,
+            around,
+        }
+    }
+
+    /// Whether wall `s` is a descent of a tile with corner state `h`/`ends_second`.
+    fn is_descent(&self, h: &[u32], ends_second: &[bool], s: usize) -> bool {
+        let (before, after) = self.around[s];
+        [before, after].iter().any(|&j| {
+            let (first, _, k) = self.corners[j];
+            h[j] == k || (h[j] > 0 && ends_second[j] == (s != first))
+        })
+    }
+}
+
+/// The universal cover of a good kaleidoscopic orbifold, enumerated breadth-first.
+///
+/// ```
+/// use orbifold::cover::{Bound, Cover};
+/// let cover = Cover::enumerate(&"*2222222".parse().unwrap(), Bound::Depth(3), true).unwrap();
+/// assert_eq!(cover.counts_by_depth, vec![1, 7, 21, 49]);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Cover {
+    /// The number of tiles at each word length, from 0.
+    pub counts_by_depth: Vec<u64>,
+    /// The tiles, by depth, when requested.
+    pub tiles: Vec<Tile>,
+    /// The polygon the group acts on.
+    pub layout: Layout,
+}
+
+/// The memory budget for one enumeration.
+pub const MEMORY_BUDGET: u128 = 2 << 30;
+
+impl Cover {
+    /// Enumerates the tiles within `bound`; with `keep_tiles` false only the counts are kept
+    /// (the frontier is all that is held in memory).
+    pub fn enumerate(
+        signature: &Signature,
+        bound: Bound,
+        keep_tiles: bool,
+    ) -> Result<Cover, CoverError> {
+        if signature.kind() != Kind::Orbifold {
+            let why = signature
+                .reason()
+                .unwrap_or_else(|| "not an orbifold".into());
+            return Err(CoverError::NotAnOrbifold(why));
+        }
+        let geometry = signature.geometry();
+        if geometry != Geometry::Spherical && matches!(bound, Bound::All) {
+            return Err(CoverError::Unbounded(geometry));
+        }
+        if let Bound::Depth(depth) = bound {
+            check_budget(signature, depth, keep_tiles)?;
+        }
+        let layout = Layout::new(signature, &Default::default())
+            .map_err(|e| CoverError::Layout(e.to_string()))?;
+        let space = Space::new(geometry);
+        let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
+        let corners = Corners::new(signature);
+        let mut search = Search::new(&corners, walls, space, bound, keep_tiles);
+        search.run();
+        if let Some(depth) = search.uncertain_at {
+            return Err(CoverError::Precision { depth });
+        }
+        Ok(Cover {
+            counts_by_depth: search.counts,
+            tiles: search.kept,
+            layout,
+        })
+    }
+}
+
+fn check_budget(signature: &Signature, depth: usize, keep_tiles: bool) -> Result<(), CoverError> {
+    let Some(counts) = growth_series(signature, depth) else {
+        return Ok(());
+    };
+    let bytes_per_tile =
+        std::mem::size_of::<Tile>() as u128 + 8 * signature.corner_count() as u128 + 8;
+    let tiles: u128 = if keep_tiles {
+        counts.iter().sum()
+    } else {
+        counts.windows(2).map(|w| w[0] + w[1]).max().unwrap_or(1)
+    };
+    let bytes = tiles.saturating_mul(bytes_per_tile);
+    if bytes > MEMORY_BUDGET {
+        return Err(CoverError::TooLarge {
+            tiles,
+            bytes,
+            budget: MEMORY_BUDGET,
+        });
+    }
+    Ok(())
+}
+
+/// The reflection in a wall: p ↦ p − 2(ν·p) n with n = (ν₁, ν₂, κν₃), so that ν·n = 1.
+pub fn reflection(space: Space, nu: DVec3) -> DMat3 {
+    let n = DVec3::new(nu.x, nu.y, space.kappa() * nu.z);
+    DMat3::IDENTITY - 2.0 * DMat3::from_cols(n * nu.x, n * nu.y, n * nu.z)
+}
+
+/// One layer of the breadth-first search, stored flat.
+#[derive(Default)]
+struct Layer {
+    matrices: Vec<DMat3>,
+    /// Corner lengths, `corners` per tile.
+    h: Vec<u32>,
+    /// Whether each corner's part ends with its second wall.
+    ends_second: Vec<bool>,
+    walls: Vec<u32>,
+}
+
+impl Layer {
+    fn len(&self) -> usize {
+        self.matrices.len()
+    }
+}
+
+struct Search<'a> {
+    corners: &'a Corners,
+    reflections: Vec<DMat3>,
+    /// The base walls as linear forms, for the geometric descent test of triangle groups.
+    walls: Vec<DVec3>,
+    /// Set when a geometric descent test could not be certified.
+    uncertain_at: Option<usize>,
+    space: Space,
+    bound: Bound,
+    keep: bool,
+    counts: Vec<u64>,
+    kept: Vec<Tile>,
+}
+
+impl<'a> Search<'a> {
+    fn new(
+        corners: &'a Corners,
+        walls: Vec<DVec3>,
+        space: Space,
+        bound: Bound,
+        keep: bool,
+    ) -> Self {
+        let reflections = walls.iter().map(|&w| reflection(space, w)).collect();
+        Search {
+            corners,
+            reflections,
+            walls,
+            uncertain_at: None,
+            space,
+            bound,
+            keep,
+            counts: Vec::new(),
+            kept: Vec::new(),
+        }
+    }
+
+    /// Triangle groups use the geometric descent test: in a triangle, the corner opposite a
+    /// crossed wall can sit anywhere in its cycle, which the corner counters cannot follow.
+    fn geometric(&self) -> bool {
+        self.corners.walls == 3
+    }
+
+    /// Wall s of the tile with matrix `m` is a descent iff the base centre lies on its far side:
+    /// with q = m⁻¹(O), the sign of ν_s·q. Every wall of the tiling is at least the inradius from
+    /// the base centre, so |ν_s·q| ≥ S_κ(r); the test is trusted only when that value is far above
+    /// the rounding error of q (which grows with the tile's distance), else `None`.
+    fn geometric_descents(&self, m: &DMat3, depth: usize) -> Option<[bool; 3]> {
+        let k = self.space.kappa();
+        let q = if k == 0.0 {
+            m.inverse().z_axis
+        } else {
+            let row = m.row(2);
+            DVec3::new(k * row.x, k * row.y, row.z)
+        };
+        let mut out = [false; 3];
+        for (s, nu) in self.walls.iter().enumerate() {
+            let value = nu.dot(q);
+            let error = 64.0
+                * f64::EPSILON
+                * (depth as f64 + 1.0)
+                * nu.abs().max_element()
+                * q.abs().max_element()
+                * 3.0;
+            if value.abs() <= error {
+                return None;
+            }
+            out[s] = value < 0.0;
+        }
+        Some(out)
+    }
+
+    fn next_layer_geometric(&mut self, layer: &Layer, depth: usize) -> Layer {
+        let mut next = Layer::default();
+        for i in 0..layer.len() {
+            let m = layer.matrices[i];
+            if let Bound::Radius(r) = self.bound
+                && !self.within_radius_margin(&m, r)
+            {
+                continue;
+            }
+            let Some(descents) = self.geometric_descents(&m, depth) else {
+                self.uncertain_at.get_or_insert(depth);
+                continue;
+            };
+            for (t, &is_descent) in descents.iter().enumerate() {
+                if is_descent {
+                    continue;
+                }
+                let child = m * self.reflections[t];
+                let Some(child_descents) = self.geometric_descents(&child, depth + 1) else {
+                    self.uncertain_at.get_or_insert(depth + 1);
+                    continue;
+                };
+                // Generated only from the neighbour across the child's smallest descent.
+                if child_descents.iter().position(|&d| d) != Some(t) {
+                    continue;
+                }
+                next.matrices.push(child);
+                next.walls.push(t as u32);
+            }
+        }
+        next
+    }
+
+    fn within_radius(&self, m: &DMat3) -> bool {
+        match self.bound {
+            Bound::Radius(r) => {
+                let centre = m.z_axis;
+                let d = match self.space.kappa() {
+                    k if k < 0.0 => centre.z.max(1.0).acosh(),
+                    k if k > 0.0 => centre.z.clamp(-1.0, 1.0).acos(),
+                    _ => centre.x.hypot(centre.y),
+                };
+                d <= r
+            }
+            _ => true,
+        }
+    }
+
+    fn run(&mut self) {
+        let c = self.corners.corners.len();
+        let mut layer = Layer {
+            matrices: vec![DMat3::IDENTITY],
+            h: vec![0; c],
+            ends_second: vec![false; c],
+            walls: vec![u32::MAX],
+        };
+        let mut depth = 0usize;
+        loop {
+            if let Bound::Tiles(limit) = self.bound
+                && self.total() + layer.len() as u64 > limit as u64
+            {
+                break;
+            }
+            self.record(&layer, depth);
+            if layer.len() == 0 || matches!(self.bound, Bound::Depth(d) if depth >= d) {
+                break;
+            }
+            layer = if self.geometric() {
+                self.next_layer_geometric(&layer, depth)
+            } else {
+                self.next_layer(&layer)
+            };
+            depth += 1;
+            if layer.len() == 0 {
+                break;
+            }
+        }
+        while self.counts.last() == Some(&0) {
+            self.counts.pop();
+        }
+    }
+
+    fn total(&self) -> u64 {
+        self.counts.iter().sum()
+    }
+
+    fn record(&mut self, layer: &Layer, depth: usize) {
+        let inside: Vec<usize> = (0..layer.len())
+            .filter(|&i| self.within_radius(&layer.matrices[i]))
+            .collect();
+        self.counts.push(inside.len() as u64);
+        if self.keep {
+            self.kept.extend(inside.iter().map(|&i| Tile {
+                matrix: layer.matrices[i],
+                depth: depth as u32,
+                reflected: depth % 2 == 1,
+                wall: (layer.walls[i] != u32::MAX).then_some(layer.walls[i]),
+            }));
+        }
+    }
+
+    fn next_layer(&self, layer: &Layer) -> Layer {
+        let c = self.corners.corners.len();
+        let n = self.corners.walls;
+        let mut next = Layer::default();
+        let mut h = vec![0u32; c];
+        let mut ends = vec![false; c];
+        for i in 0..layer.len() {
+            if let Bound::Radius(r) = self.bound {
+                // Keep expanding a little beyond the radius so that tiles inside are reached.
+                if !self.within_radius_margin(&layer.matrices[i], r) {
+                    continue;
+                }
+            }
+            let (hw, ew) = (
+                &layer.h[i * c..(i + 1) * c],
+                &layer.ends_second[i * c..(i + 1) * c],
+            );
+            for t in 0..n {
+                if self.corners.is_descent(hw, ew, t) {
+                    continue;
+                }
+                if !self.child_state(hw, t, &mut h, &mut ends) {
+                    continue;
+                }
+                next.matrices.push(layer.matrices[i] * self.reflections[t]);
+                next.h.extend_from_slice(&h);
+                next.ends_second.extend_from_slice(&ends);
+                next.walls.push(t as u32);
+            }
+        }
+        next
+    }
+
+    fn within_radius_margin(&self, m: &DMat3, r: f64) -> bool {
+        let centre = m.z_axis;
+        let d = match self.space.kappa() {
+            k if k < 0.0 => centre.z.max(1.0).acosh(),
+            k if k > 0.0 => centre.z.clamp(-1.0, 1.0).acos(),
+            _ => centre.x.hypot(centre.y),
+        };
+        d <= r + 4.0
+    }
+
+    /// The corner state of the child across ascent `t`; false when the child's smallest descent
+    /// is not `t` (another parent generates it).
+    fn child_state(&self, hw: &[u32], t: usize, h: &mut [u32], ends: &mut [bool]) -> bool {
+        let corners = &self.corners.corners;
+        h.iter_mut().for_each(|x| *x = 0);
+        ends.iter_mut().for_each(|x| *x = false);
+        let (before, after) = self.corners.around[t];
+        let mut descents_below_t = false;
+        for j in [before, after] {
+            let (first, second, k) = corners[j];
+            h[j] = hw[j].saturating_add(1);
+            ends[j] = t == second;
+            if h[j] == k {
+                // The child tops this corner's cycle: the corner's other wall is a descent too.
+                let other = if t == first { second } else { first };
+                if other < t {
+                    descents_below_t = true;
+                }
+            }
+        }
+        if descents_below_t {
+            return false;
+        }
+        let n = self.corners.walls;
+        if n >= 3 {
+            let full_before = h[before] == corners[before].2;
+            let full_after = h[after] == corners[after].2;
+            if n == 3 && full_before && full_after {
+                // Both corners on t are full: in a triangle this is the longest element of a
+                // finite group, which tops the third corner's cycle as well.
+                let opposite = (after + 1) % 3;
+                h[opposite] = corners[opposite].2;
+                return true;
+            }
+            // Beyond a full corner (t, s), the next corner along s has a part of length 1 ending in s.
+            for (j, beyond, full) in [
+                (before, (before + n - 1) % n, full_before),
+                (after, (after + 1) % n, full_after),
+            ] {
+                if !full {
+                    continue;
+                }
+                let (first, second, _) = corners[j];
+                let s = if t == first { second } else { first };
+                h[beyond] = 1;
+                ends[beyond] = corners[beyond].1 == s;
+            }
+        }
+        true
+    }
+}
