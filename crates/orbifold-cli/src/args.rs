@@ -36,7 +36,23 @@ pub enum Command {
     /// Construct the polygon of a signature in its geometry; print it, or draw it as SVG or PNG.
     #[command(after_help = LAYOUT_EXAMPLES)]
     Layout(LayoutArgs),
+    /// Enumerate the tiles of the universal cover: counts by word length, optionally the tiles.
+    #[command(after_help = COVER_EXAMPLES)]
+    Cover(CoverArgs),
 }
+
+const COVER_EXAMPLES: &str = "\
+Every tile is the image of the polygon under one element of the reflection group, produced
+exactly once, with its word length (depth: its distance from the base tile across walls). The
+counts per depth are checked against the group's growth series (Steinberg's formula).
+
+Examples:
+  orbifold cover '*235'                       the 120 tiles of the icosahedral group
+  orbifold cover '*2222222' --depth 9 --json  the {7,4} tiling to depth 9
+  orbifold cover '*∞∞∞' --max-tiles 1000 --tiles --json
+
+Euclidean and hyperbolic covers are infinite: give --depth, --radius or --max-tiles. Requests
+that would exceed the memory budget are refused before they start.";
 
 const LAYOUT_EXAMPLES: &str = "\
 The polygon is drawn in model coordinates: the stereographic plane (spherical), the Euclidean
@@ -158,4 +174,26 @@ pub struct LayoutArgs {
     /// The picture's width in pixels.
     #[arg(long, value_name = "PX", default_value_t = 800, value_parser = clap::value_parser!(u32).range(64..=8192))]
     pub size: u32,
+}
+
+#[derive(Debug, Args)]
+pub struct CoverArgs {
+    /// The kaleidoscopic signature.
+    #[arg(value_name = "SIG")]
+    pub signature: String,
+    /// Every tile of word length at most D.
+    #[arg(long, value_name = "D", conflicts_with_all = ["radius", "max_tiles"])]
+    pub depth: Option<usize>,
+    /// Every tile whose centre lies within intrinsic distance R of the base tile's centre.
+    #[arg(long, value_name = "R", conflicts_with = "max_tiles")]
+    pub radius: Option<f64>,
+    /// At most M tiles, whole depths at a time.
+    #[arg(long, value_name = "M")]
+    pub max_tiles: Option<usize>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Also list the tiles (isometry, depth, parity, wall).
+    #[arg(long)]
+    pub tiles: bool,
 }

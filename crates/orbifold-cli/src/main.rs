@@ -21,6 +21,7 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(&args),
         Command::Enumerate(args) => commands::enumerate::run(&args),
         Command::Layout(args) => commands::layout::run(&args),
+        Command::Cover(args) => commands::cover::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

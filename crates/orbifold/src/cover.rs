@@ -16,6 +16,7 @@
 //! meet generate an infinite one.
 
 use glam::{DMat3, DVec3};
+use rayon::prelude::*;
 
 use crate::euler::Geometry;
 use crate::growth::growth_series;
@@ -152,13 +153,64 @@ impl Corners {
         }
     }
 
-    /// Whether wall `s` is a descent of a tile with corner state `h`/`ends_second`.
-    fn is_descent(&self, h: &[u32], ends_second: &[bool], s: usize) -> bool {
-        let (before, after) = self.around[s];
-        [before, after].iter().any(|&j| {
-            let (first, _, k) = self.corners[j];
-            h[j] == k || (h[j] > 0 && ends_second[j] == (s != first))
-        })
+    /// The descents of a tile as a bit mask over walls. A corner whose part has the full length k
+    /// makes both its walls descents; a shorter non-empty part makes its last wall one.
+    fn descent_mask(&self, state: &[u32]) -> u64 {
+        let mut mask = 0u64;
+        for (&word, &(first, second, k)) in state.iter().zip(&self.corners) {
+            let h = word & !ENDS_SECOND;
+            if h == k {
+                mask |= (1 << first) | (1 << second);
+            } else if h > 0 {
+                mask |= 1
+                    << if word & ENDS_SECOND != 0 {
+                        second
+                    } else {
+                        first
+                    };
+            }
+        }
+        mask
+    }
+
+    /// The corner state of the child across ascent `t`, written to `child`; false when the
+    /// child's smallest descent is not `t` (another parent generates it).
+    fn child_state(&self, parent: &[u32], t: usize, child: &mut [u32]) -> bool {
+        child.fill(0);
+        let (before, after) = self.around[t];
+        let mut full = [false; 2];
+        for (side, j) in [before, after].into_iter().enumerate() {
+            let (first, second, k) = self.corners[j];
+            let h = ((parent[j] & !ENDS_SECOND) + 1).min(k);
+            child[j] = h | if t == second { ENDS_SECOND } else { 0 };
+            if h == k {
+                // The child tops this corner's cycle: the corner's other wall is a descent too.
+                let other = if t == first { second } else { first };
+                if other < t {
+                    return false;
+                }
+                full[side] = true;
+            }
+        }
+        let n = self.walls;
+        if n >= 3 {
+            // Beyond a full corner (t, s), the next corner along s has a part of length 1 ending in s.
+            for (side, (j, beyond)) in [(before, (before + n - 1) % n), (after, (after + 1) % n)]
+                .into_iter()
+                .enumerate()
+            {
+                if full[side] {
+                    let (first, second, _) = self.corners[j];
+                    let s = if t == first { second } else { first };
+                    child[beyond] = 1 | if self.corners[beyond].1 == s {
+                        ENDS_SECOND
+                    } else {
+                        0
+                    };
+                }
+            }
+        }
+        true
     }
 }
 
@@ -167,7 +219,7 @@ impl Corners {
 /// ```
 /// use orbifold::cover::{Bound, Cover};
 /// let cover = Cover::enumerate(&"*2222222".parse().unwrap(), Bound::Depth(3), true).unwrap();
-/// assert_eq!(cover.counts_by_depth, vec![1, 7, 21, 49]);
+/// assert_eq!(cover.counts_by_depth, vec![1, 7, 35, 168]);
 /// ```
 #[derive(Clone, Debug)]
 pub struct Cover {
@@ -209,6 +261,9 @@ impl Cover {
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
         let corners = Corners::new(signature);
         let mut search = Search::new(&corners, walls, space, bound, keep_tiles);
+        if let Bound::Depth(depth) = bound {
+            search.expected = growth_series(signature, depth);
+        }
         search.run();
         if let Some(depth) = search.uncertain_at {
             return Err(CoverError::Precision { depth });
@@ -253,16 +308,32 @@ pub fn reflection(space: Space, nu: DVec3) -> DMat3 {
 #[derive(Default)]
 struct Layer {
     matrices: Vec<DMat3>,
-    /// Corner lengths, `corners` per tile.
-    h: Vec<u32>,
-    /// Whether each corner's part ends with its second wall.
-    ends_second: Vec<bool>,
+    /// Corner states, one word per corner per tile: the part's length hⱼ in the low bits, and
+    /// [`ENDS_SECOND`] when the part ends with the corner's second wall.
+    state: Vec<u32>,
     walls: Vec<u32>,
 }
+
+/// The flag of a corner state whose dihedral part ends with the corner's second wall.
+const ENDS_SECOND: u32 = 1 << 31;
 
 impl Layer {
     fn len(&self) -> usize {
         self.matrices.len()
+    }
+
+    fn with_capacity(tiles: usize, corners: usize) -> Self {
+        Layer {
+            matrices: Vec::with_capacity(tiles),
+            state: Vec::with_capacity(tiles * corners),
+            walls: Vec::with_capacity(tiles),
+        }
+    }
+
+    fn append(&mut self, mut other: Layer) {
+        self.matrices.append(&mut other.matrices);
+        self.state.append(&mut other.state);
+        self.walls.append(&mut other.walls);
     }
 }
 
@@ -273,6 +344,8 @@ struct Search<'a> {
     walls: Vec<DVec3>,
     /// Set when a geometric descent test could not be certified.
     uncertain_at: Option<usize>,
+    /// The growth series, when known, to size each layer up front.
+    expected: Option<Vec<u128>>,
     space: Space,
     bound: Bound,
     keep: bool,
@@ -294,6 +367,7 @@ impl<'a> Search<'a> {
             reflections,
             walls,
             uncertain_at: None,
+            expected: None,
             space,
             bound,
             keep,
@@ -389,8 +463,7 @@ impl<'a> Search<'a> {
         let c = self.corners.corners.len();
         let mut layer = Layer {
             matrices: vec![DMat3::IDENTITY],
-            h: vec![0; c],
-            ends_second: vec![false; c],
+            state: vec![0; c],
             walls: vec![u32::MAX],
         };
         let mut depth = 0usize;
@@ -404,10 +477,15 @@ impl<'a> Search<'a> {
             if layer.len() == 0 || matches!(self.bound, Bound::Depth(d) if depth >= d) {
                 break;
             }
+            let expected = self
+                .expected
+                .as_ref()
+                .and_then(|e| e.get(depth + 1))
+                .map(|&n| n as usize);
             layer = if self.geometric() {
                 self.next_layer_geometric(&layer, depth)
             } else {
-                self.next_layer(&layer)
+                self.next_layer(&layer, expected)
             };
             depth += 1;
             if layer.len() == 0 {
@@ -424,49 +502,68 @@ impl<'a> Search<'a> {
     }
 
     fn record(&mut self, layer: &Layer, depth: usize) {
-        let inside: Vec<usize> = (0..layer.len())
-            .filter(|&i| self.within_radius(&layer.matrices[i]))
-            .collect();
-        self.counts.push(inside.len() as u64);
-        if self.keep {
-            self.kept.extend(inside.iter().map(|&i| Tile {
-                matrix: layer.matrices[i],
-                depth: depth as u32,
-                reflected: depth % 2 == 1,
-                wall: (layer.walls[i] != u32::MAX).then_some(layer.walls[i]),
-            }));
+        let radius = matches!(self.bound, Bound::Radius(_));
+        if !radius && !self.keep {
+            self.counts.push(layer.len() as u64);
+            return;
         }
+        let inside: Vec<usize> = (0..layer.len())
+            .filter(|&i| !radius || self.within_radius(&layer.matrices[i]))
+            .collect();
+        let before = self.kept.len();
+        let mut count = 0u64;
+        for i in inside {
+            count += 1;
+            if self.keep {
+                self.kept.push(Tile {
+                    matrix: layer.matrices[i],
+                    depth: depth as u32,
+                    reflected: depth % 2 == 1,
+                    wall: (layer.walls[i] != u32::MAX).then_some(layer.walls[i]),
+                });
+            }
+        }
+        debug_assert!(!self.keep || self.kept.len() - before == count as usize);
+        self.counts.push(count);
     }
 
-    fn next_layer(&self, layer: &Layer) -> Layer {
+    /// The next layer by the corner counters, in parallel over chunks of the current layer.
+    fn next_layer(&self, layer: &Layer, expected: Option<usize>) -> Layer {
         let c = self.corners.corners.len();
-        let n = self.corners.walls;
-        let mut next = Layer::default();
-        let mut h = vec![0u32; c];
-        let mut ends = vec![false; c];
-        for i in 0..layer.len() {
-            if let Bound::Radius(r) = self.bound {
-                // Keep expanding a little beyond the radius so that tiles inside are reached.
-                if !self.within_radius_margin(&layer.matrices[i], r) {
-                    continue;
+        let chunk = 4096;
+        let parts: Vec<Layer> = (0..layer.len().div_ceil(chunk))
+            .into_par_iter()
+            .map(|part| {
+                let range = part * chunk..((part + 1) * chunk).min(layer.len());
+                let mut next =
+                    Layer::with_capacity(range.len() * (self.corners.walls - 1).max(1), c);
+                let mut child = vec![0u32; c];
+                for i in range {
+                    let m = layer.matrices[i];
+                    if let Bound::Radius(r) = self.bound
+                        && !self.within_radius_margin(&m, r)
+                    {
+                        continue;
+                    }
+                    let parent = &layer.state[i * c..(i + 1) * c];
+                    let descents = self.corners.descent_mask(parent);
+                    for t in 0..self.corners.walls {
+                        if descents & (1 << t) != 0
+                            || !self.corners.child_state(parent, t, &mut child)
+                        {
+                            continue;
+                        }
+                        next.matrices.push(m * self.reflections[t]);
+                        next.state.extend_from_slice(&child);
+                        next.walls.push(t as u32);
+                    }
                 }
-            }
-            let (hw, ew) = (
-                &layer.h[i * c..(i + 1) * c],
-                &layer.ends_second[i * c..(i + 1) * c],
-            );
-            for t in 0..n {
-                if self.corners.is_descent(hw, ew, t) {
-                    continue;
-                }
-                if !self.child_state(hw, t, &mut h, &mut ends) {
-                    continue;
-                }
-                next.matrices.push(layer.matrices[i] * self.reflections[t]);
-                next.h.extend_from_slice(&h);
-                next.ends_second.extend_from_slice(&ends);
-                next.walls.push(t as u32);
-            }
+                next
+            })
+            .collect();
+        let mut next = Layer::with_capacity(expected.unwrap_or(0), c);
+        for part in parts {
+            next.append(part);
         }
         next
     }
@@ -479,56 +576,5 @@ impl<'a> Search<'a> {
             _ => centre.x.hypot(centre.y),
         };
         d <= r + 4.0
-    }
-
-    /// The corner state of the child across ascent `t`; false when the child's smallest descent
-    /// is not `t` (another parent generates it).
-    fn child_state(&self, hw: &[u32], t: usize, h: &mut [u32], ends: &mut [bool]) -> bool {
-        let corners = &self.corners.corners;
-        h.iter_mut().for_each(|x| *x = 0);
-        ends.iter_mut().for_each(|x| *x = false);
-        let (before, after) = self.corners.around[t];
-        let mut descents_below_t = false;
-        for j in [before, after] {
-            let (first, second, k) = corners[j];
-            h[j] = hw[j].saturating_add(1);
-            ends[j] = t == second;
-            if h[j] == k {
-                // The child tops this corner's cycle: the corner's other wall is a descent too.
-                let other = if t == first { second } else { first };
-                if other < t {
-                    descents_below_t = true;
-                }
-            }
-        }
-        if descents_below_t {
-            return false;
-        }
-        let n = self.corners.walls;
-        if n >= 3 {
-            let full_before = h[before] == corners[before].2;
-            let full_after = h[after] == corners[after].2;
-            if n == 3 && full_before && full_after {
-                // Both corners on t are full: in a triangle this is the longest element of a
-                // finite group, which tops the third corner's cycle as well.
-                let opposite = (after + 1) % 3;
-                h[opposite] = corners[opposite].2;
-                return true;
-            }
-            // Beyond a full corner (t, s), the next corner along s has a part of length 1 ending in s.
-            for (j, beyond, full) in [
-                (before, (before + n - 1) % n, full_before),
-                (after, (after + 1) % n, full_after),
-            ] {
-                if !full {
-                    continue;
-                }
-                let (first, second, _) = corners[j];
-                let s = if t == first { second } else { first };
-                h[beyond] = 1;
-                ends[beyond] = corners[beyond].1 == s;
-            }
-        }
-        true
     }
 }

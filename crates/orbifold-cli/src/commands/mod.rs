@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;

@@ -1,0 +1,129 @@
+//! `orbifold cover`: the tiles of the universal cover, counted by word length.
+
+use std::io::Write;
+use std::time::Instant;
+
+use orbifold::Signature;
+use orbifold::cover::{Bound, Cover, Tile};
+use orbifold::growth::growth_series;
+use serde::Serialize;
+
+use crate::args::CoverArgs;
+use crate::error::CliError;
+use crate::output;
+
+pub fn run(args: &CoverArgs) -> Result<(), CliError> {
+    let signature: Signature = args
+        .signature
+        .parse()
+        .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
+    let bound = bound(args)?;
+    let start = Instant::now();
+    let cover = Cover::enumerate(&signature, bound, args.tiles)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let total: u64 = cover.counts_by_depth.iter().sum();
+    let mut out = output::stdout();
+    if args.json {
+        let report = CoverJson {
+            signature: signature.to_string(),
+            geometry: signature.geometry().name(),
+            counts_by_depth: cover.counts_by_depth.clone(),
+            total,
+            seconds,
+            tiles: args
+                .tiles
+                .then(|| cover.tiles.iter().map(TileJson::from).collect()),
+        };
+        serde_json::to_writer(&mut out, &report)?;
+        writeln!(out)?;
+    } else {
+        write_text(&mut out, &signature, &cover, total, seconds)?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+fn bound(args: &CoverArgs) -> Result<Bound, CliError> {
+    Ok(match (args.depth, args.radius, args.max_tiles) {
+        (Some(d), _, _) => Bound::Depth(d),
+        (_, Some(r), _) if r.is_finite() && r >= 0.0 => Bound::Radius(r),
+        (_, Some(r), _) => {
+            return Err(CliError::Input(format!(
+                "--radius must be a non-negative number, not {r}"
+            )));
+        }
+        (_, _, Some(m)) => Bound::Tiles(m),
+        (None, None, None) => Bound::All,
+    })
+}
+
+#[derive(Serialize)]
+struct TileJson {
+    depth: u32,
+    reflected: bool,
+    wall: Option<u32>,
+    /// The isometry: a 3×3 matrix on ambient coordinates, row by row.
+    isometry: [[f64; 3]; 3],
+}
+
+impl From<&Tile> for TileJson {
+    fn from(tile: &Tile) -> Self {
+        let m = tile.matrix;
+        TileJson {
+            depth: tile.depth,
+            reflected: tile.reflected,
+            wall: tile.wall,
+            isometry: [
+                m.row(0).to_array(),
+                m.row(1).to_array(),
+                m.row(2).to_array(),
+            ],
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct CoverJson {
+    signature: String,
+    geometry: &'static str,
+    counts_by_depth: Vec<u64>,
+    total: u64,
+    seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tiles: Option<Vec<TileJson>>,
+}
+
+fn write_text(
+    out: &mut impl Write,
+    signature: &Signature,
+    cover: &Cover,
+    total: u64,
+    seconds: f64,
+) -> std::io::Result<()> {
+    writeln!(out, "{}  {}", signature, signature.geometry())?;
+    let depth = cover.counts_by_depth.len().saturating_sub(1);
+    let series = growth_series(signature, depth);
+    writeln!(out, "  depth  tiles")?;
+    for (d, count) in cover.counts_by_depth.iter().enumerate() {
+        writeln!(out, "  {d:<5}  {count}")?;
+    }
+    writeln!(out, "  total  {total}")?;
+    if let Some(series) = series {
+        let agrees = series
+            .iter()
+            .zip(&cover.counts_by_depth)
+            .all(|(a, &b)| *a == u128::from(b));
+        writeln!(
+            out,
+            "  growth series (Steinberg's formula) {}",
+            if agrees { "agrees" } else { "differs" }
+        )?;
+    }
+    let rate = total as f64 / seconds.max(1e-9);
+    writeln!(
+        out,
+        "  {seconds:.3} s, {:.2} million tiles per second",
+        rate / 1e6
+    )
+}
