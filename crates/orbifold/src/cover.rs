@@ -227,9 +227,15 @@ pub struct Cover {
     pub counts_by_depth: Vec<u64>,
     /// The tiles, by depth, when requested.
     pub tiles: Vec<Tile>,
+    /// The largest intrinsic distance from the base tile's centre to a tile's centre reached.
+    pub farthest: f64,
     /// The polygon the group acts on.
     pub layout: Layout,
 }
+
+/// How far beyond `--radius` the search keeps expanding, so that tiles inside are reached even
+/// when the shortest gallery to them passes outside.
+const RADIUS_MARGIN: f64 = 4.0;
 
 /// The memory budget for one enumeration.
 pub const MEMORY_BUDGET: u128 = 2 << 30;
@@ -261,9 +267,6 @@ impl Cover {
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
         let corners = Corners::new(signature);
         let mut search = Search::new(&corners, walls, space, bound, keep_tiles);
-        if let Bound::Depth(depth) = bound {
-            search.expected = growth_series(signature, depth);
-        }
         search.run();
         if let Some(depth) = search.uncertain_at {
             return Err(CoverError::Precision { depth });
@@ -271,6 +274,7 @@ impl Cover {
         Ok(Cover {
             counts_by_depth: search.counts,
             tiles: search.kept,
+            farthest: search.farthest,
             layout,
         })
     }
@@ -304,9 +308,9 @@ pub fn reflection(space: Space, nu: DVec3) -> DMat3 {
     DMat3::IDENTITY - 2.0 * DMat3::from_cols(n * nu.x, n * nu.y, n * nu.z)
 }
 
-/// One layer of the breadth-first search, stored flat.
+/// A run of tiles of one layer, stored flat.
 #[derive(Default)]
-struct Layer {
+struct Part {
     matrices: Vec<DMat3>,
     /// Corner states, one word per corner per tile: the part's length hⱼ in the low bits, and
     /// [`ENDS_SECOND`] when the part ends with the corner's second wall.
@@ -317,23 +321,34 @@ struct Layer {
 /// The flag of a corner state whose dihedral part ends with the corner's second wall.
 const ENDS_SECOND: u32 = 1 << 31;
 
-impl Layer {
+impl Part {
     fn len(&self) -> usize {
         self.matrices.len()
     }
 
     fn with_capacity(tiles: usize, corners: usize) -> Self {
-        Layer {
+        Part {
             matrices: Vec::with_capacity(tiles),
             state: Vec::with_capacity(tiles * corners),
             walls: Vec::with_capacity(tiles),
         }
     }
+}
 
-    fn append(&mut self, mut other: Layer) {
-        self.matrices.append(&mut other.matrices);
-        self.state.append(&mut other.state);
-        self.walls.append(&mut other.walls);
+/// One layer of the breadth-first search: runs of tiles, as the parallel workers produced them
+/// (never concatenated, which would copy every tile once more).
+#[derive(Default)]
+struct Layer {
+    parts: Vec<Part>,
+}
+
+impl Layer {
+    fn len(&self) -> usize {
+        self.parts.iter().map(Part::len).sum()
+    }
+
+    fn matrices(&self) -> impl Iterator<Item = &DMat3> {
+        self.parts.iter().flat_map(|p| p.matrices.iter())
     }
 }
 
@@ -344,8 +359,7 @@ struct Search<'a> {
     walls: Vec<DVec3>,
     /// Set when a geometric descent test could not be certified.
     uncertain_at: Option<usize>,
-    /// The growth series, when known, to size each layer up front.
-    expected: Option<Vec<u128>>,
+    farthest: f64,
     space: Space,
     bound: Bound,
     keep: bool,
@@ -367,7 +381,7 @@ impl<'a> Search<'a> {
             reflections,
             walls,
             uncertain_at: None,
-            expected: None,
+            farthest: 0.0,
             space,
             bound,
             keep,
@@ -412,9 +426,8 @@ impl<'a> Search<'a> {
     }
 
     fn next_layer_geometric(&mut self, layer: &Layer, depth: usize) -> Layer {
-        let mut next = Layer::default();
-        for i in 0..layer.len() {
-            let m = layer.matrices[i];
+        let mut next = Part::default();
+        for &m in layer.matrices() {
             if let Bound::Radius(r) = self.bound
                 && !self.within_radius_margin(&m, r)
             {
@@ -441,31 +454,34 @@ impl<'a> Search<'a> {
                 next.walls.push(t as u32);
             }
         }
-        next
+        Layer { parts: vec![next] }
+    }
+
+    /// The intrinsic distance from the base centre (the origin) to the centre of the tile `m`.
+    fn centre_distance(&self, m: &DMat3) -> f64 {
+        let centre = m.z_axis;
+        match self.space.kappa() {
+            k if k < 0.0 => centre.z.max(1.0).acosh(),
+            k if k > 0.0 => centre.z.clamp(-1.0, 1.0).acos(),
+            _ => centre.x.hypot(centre.y),
+        }
     }
 
     fn within_radius(&self, m: &DMat3) -> bool {
         match self.bound {
-            Bound::Radius(r) => {
-                let centre = m.z_axis;
-                let d = match self.space.kappa() {
-                    k if k < 0.0 => centre.z.max(1.0).acosh(),
-                    k if k > 0.0 => centre.z.clamp(-1.0, 1.0).acos(),
-                    _ => centre.x.hypot(centre.y),
-                };
-                d <= r
-            }
+            Bound::Radius(r) => self.centre_distance(m) <= r,
             _ => true,
         }
     }
 
     fn run(&mut self) {
         let c = self.corners.corners.len();
-        let mut layer = Layer {
+        let base = Part {
             matrices: vec![DMat3::IDENTITY],
             state: vec![0; c],
             walls: vec![u32::MAX],
         };
+        let mut layer = Layer { parts: vec![base] };
         let mut depth = 0usize;
         loop {
             if let Bound::Tiles(limit) = self.bound
@@ -477,15 +493,10 @@ impl<'a> Search<'a> {
             if layer.len() == 0 || matches!(self.bound, Bound::Depth(d) if depth >= d) {
                 break;
             }
-            let expected = self
-                .expected
-                .as_ref()
-                .and_then(|e| e.get(depth + 1))
-                .map(|&n| n as usize);
             layer = if self.geometric() {
                 self.next_layer_geometric(&layer, depth)
             } else {
-                self.next_layer(&layer, expected)
+                self.next_layer(&layer)
             };
             depth += 1;
             if layer.len() == 0 {
@@ -502,79 +513,85 @@ impl<'a> Search<'a> {
     }
 
     fn record(&mut self, layer: &Layer, depth: usize) {
+        // The farthest tile is in the last layer or near it; measuring the last two layers
+        // is enough, but every layer is cheap next to building it.
+        let farthest = layer
+            .matrices()
+            .map(|m| self.centre_distance(m))
+            .fold(0.0, f64::max);
+        self.farthest = self.farthest.max(farthest);
         let radius = matches!(self.bound, Bound::Radius(_));
         if !radius && !self.keep {
             self.counts.push(layer.len() as u64);
             return;
         }
-        let inside: Vec<usize> = (0..layer.len())
-            .filter(|&i| !radius || self.within_radius(&layer.matrices[i]))
-            .collect();
         let before = self.kept.len();
         let mut count = 0u64;
-        for i in inside {
-            count += 1;
-            if self.keep {
-                self.kept.push(Tile {
-                    matrix: layer.matrices[i],
-                    depth: depth as u32,
-                    reflected: depth % 2 == 1,
-                    wall: (layer.walls[i] != u32::MAX).then_some(layer.walls[i]),
-                });
+        for part in &layer.parts {
+            for i in 0..part.len() {
+                if radius && !self.within_radius(&part.matrices[i]) {
+                    continue;
+                }
+                count += 1;
+                if self.keep {
+                    self.kept.push(Tile {
+                        matrix: part.matrices[i],
+                        depth: depth as u32,
+                        reflected: depth % 2 == 1,
+                        wall: (part.walls[i] != u32::MAX).then_some(part.walls[i]),
+                    });
+                }
             }
         }
         debug_assert!(!self.keep || self.kept.len() - before == count as usize);
         self.counts.push(count);
     }
 
-    /// The next layer by the corner counters, in parallel over chunks of the current layer.
-    fn next_layer(&self, layer: &Layer, expected: Option<usize>) -> Layer {
-        let c = self.corners.corners.len();
-        let chunk = 4096;
-        let parts: Vec<Layer> = (0..layer.len().div_ceil(chunk))
-            .into_par_iter()
-            .map(|part| {
-                let range = part * chunk..((part + 1) * chunk).min(layer.len());
-                let mut next =
-                    Layer::with_capacity(range.len() * (self.corners.walls - 1).max(1), c);
-                let mut child = vec![0u32; c];
-                for i in range {
-                    let m = layer.matrices[i];
-                    if let Bound::Radius(r) = self.bound
-                        && !self.within_radius_margin(&m, r)
-                    {
-                        continue;
-                    }
-                    let parent = &layer.state[i * c..(i + 1) * c];
-                    let descents = self.corners.descent_mask(parent);
-                    for t in 0..self.corners.walls {
-                        if descents & (1 << t) != 0
-                            || !self.corners.child_state(parent, t, &mut child)
-                        {
-                            continue;
-                        }
-                        next.matrices.push(m * self.reflections[t]);
-                        next.state.extend_from_slice(&child);
-                        next.walls.push(t as u32);
-                    }
-                }
-                next
+    /// The next layer by the corner counters, in parallel over runs of the current layer.
+    fn next_layer(&self, layer: &Layer) -> Layer {
+        const RUN: usize = 4096;
+        let runs: Vec<(&Part, std::ops::Range<usize>)> = layer
+            .parts
+            .iter()
+            .flat_map(|part| {
+                (0..part.len().div_ceil(RUN))
+                    .map(move |r| (part, r * RUN..((r + 1) * RUN).min(part.len())))
             })
             .collect();
-        let mut next = Layer::with_capacity(expected.unwrap_or(0), c);
-        for part in parts {
-            next.append(part);
+        let parts = runs
+            .into_par_iter()
+            .map(|(part, range)| self.expand(part, range))
+            .collect();
+        Layer { parts }
+    }
+
+    /// The children of the tiles `range` of `part`.
+    fn expand(&self, part: &Part, range: std::ops::Range<usize>) -> Part {
+        let c = self.corners.corners.len();
+        let mut next = Part::with_capacity(range.len() * (self.corners.walls - 1).max(1), c);
+        let mut child = vec![0u32; c];
+        for i in range {
+            let m = part.matrices[i];
+            if let Bound::Radius(r) = self.bound
+                && !self.within_radius_margin(&m, r)
+            {
+                continue;
+            }
+            let parent = &part.state[i * c..(i + 1) * c];
+            let descents = self.corners.descent_mask(parent);
+            for t in 0..self.corners.walls {
+                if descents & (1 << t) != 0 || !self.corners.child_state(parent, t, &mut child) {
+                    continue;
+                }
+                next.matrices.push(m * self.reflections[t]);
+                next.state.extend_from_slice(&child);
+                next.walls.push(t as u32);
+            }
         }
         next
     }
 
     fn within_radius_margin(&self, m: &DMat3, r: f64) -> bool {
-        let centre = m.z_axis;
-        let d = match self.space.kappa() {
-            k if k < 0.0 => centre.z.max(1.0).acosh(),
-            k if k > 0.0 => centre.z.clamp(-1.0, 1.0).acos(),
-            _ => centre.x.hypot(centre.y),
-        };
-        d <= r + 4.0
+        self.centre_distance(m) <= r + RADIUS_MARGIN
     }
 }
