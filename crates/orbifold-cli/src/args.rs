@@ -39,7 +39,25 @@ pub enum Command {
     /// Enumerate the tiles of the universal cover: counts by word length, optionally the tiles.
     #[command(after_help = COVER_EXAMPLES)]
     Cover(CoverArgs),
+    /// Draw the universal cover as a tiling: PNG (every pixel folded into the polygon) or SVG.
+    #[command(after_help = TILING_EXAMPLES)]
+    Tiling(TilingArgs),
 }
+
+const TILING_EXAMPLES: &str = "\
+PNG pictures fold every pixel back into the polygon by reflections: the number of reflections is
+the tile's depth, its parity the tile's orientation; edges are antialiased from the distance to
+the nearest wall. A motif image, stretched over the polygon's bounding box, is carried to every
+tile and mirrored in the odd ones. SVG pictures draw the tiles up to --depth as geodesic arcs.
+
+Models: poincare, klein, halfplane (hyperbolic); stereographic, sphere (spherical); euclidean.
+
+Examples:
+  orbifold tiling '*237' -o 237.png
+  orbifold tiling '*2222222' -o 74.svg --depth 4
+  orbifold tiling '*∞∞∞' -o farey.png --model halfplane --color depth
+  orbifold tiling '*235' -o sphere.png --model sphere --motif photo.jpg
+  orbifold tiling '*333' -o p3m1.png --zoom 0.3 --center 0.1,0";
 
 const COVER_EXAMPLES: &str = "\
 Every tile is the image of the polygon under one element of the reflection group, produced
@@ -196,4 +214,64 @@ pub struct CoverArgs {
     /// Also list the tiles (isometry, depth, parity, wall).
     #[arg(long)]
     pub tiles: bool,
+}
+
+/// The view of the plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ModelArg {
+    /// The Poincaré disk (hyperbolic).
+    Poincare,
+    /// The Klein disk (hyperbolic).
+    Klein,
+    /// The upper half-plane (hyperbolic).
+    Halfplane,
+    /// The stereographic plane (spherical).
+    Stereographic,
+    /// An orthographic view of the sphere (spherical).
+    Sphere,
+    /// The Euclidean plane.
+    Euclidean,
+}
+
+/// How tiles are coloured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorArg {
+    /// By orientation: even and odd tiles.
+    Parity,
+    /// By word length.
+    Depth,
+    /// By the last wall crossed.
+    Wall,
+}
+
+#[derive(Debug, Args)]
+pub struct TilingArgs {
+    /// The kaleidoscopic signature.
+    #[arg(value_name = "SIG")]
+    pub signature: String,
+    /// The picture to write: `.png` or `.svg`.
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: std::path::PathBuf,
+    /// Width and height in pixels.
+    #[arg(long, value_name = "PX", default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub size: u32,
+    /// The model (default: the natural one of the geometry).
+    #[arg(long, value_enum)]
+    pub model: Option<ModelArg>,
+    /// Tile colours.
+    #[arg(long = "color", value_enum, default_value = "parity")]
+    pub color: ColorArg,
+    /// A PNG or JPEG image placed over the polygon and carried to every tile.
+    #[arg(long, value_name = "IMG")]
+    pub motif: Option<std::path::PathBuf>,
+    /// The model point shown at the centre of the picture.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub center: Option<String>,
+    /// Magnification.
+    #[arg(long, value_name = "Z", default_value_t = 1.0)]
+    pub zoom: f64,
+    /// For SVG: draw tiles up to this word length. For PNG: give up on a pixel after this many
+    /// reflections (near ideal corners and the boundary).
+    #[arg(long, value_name = "D")]
+    pub depth: Option<u32>,
 }

@@ -22,6 +22,7 @@ fn main() -> ExitCode {
         Command::Enumerate(args) => commands::enumerate::run(&args),
         Command::Layout(args) => commands::layout::run(&args),
         Command::Cover(args) => commands::cover::run(&args),
+        Command::Tiling(args) => commands::tiling::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

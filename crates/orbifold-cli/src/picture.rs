@@ -252,3 +252,93 @@ pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, String> {
         .encode_png()
         .map_err(|e| format!("cannot encode the PNG: {e}"))
 }
+
+/// An SVG of the tiles of a cover, each outlined by its geodesic arcs and filled by parity, in
+/// the model of the layout (Poincaré disk, stereographic plane or Euclidean plane), moved so
+/// that `center` is at the middle and magnified by `zoom`.
+pub fn tiling_svg(
+    layout: &Layout,
+    tiles: &[orbifold::cover::Tile],
+    title: &str,
+    size: u32,
+    center: Complex64,
+    zoom: f64,
+) -> String {
+    use glam::{DMat3, DVec3};
+    let space = layout.space();
+    let size_f = f64::from(size);
+    let extent = if layout.geometry == Geometry::Euclidean {
+        4.0
+    } else {
+        1.0
+    };
+    let view = View {
+        centre: Complex64::new(0.0, 0.0),
+        scale: 0.46 * size_f * zoom / extent,
+        size: size_f,
+    };
+    let recentre = orbifold::isometry::Isometry::translation(space, center)
+        .inverse()
+        .matrix();
+    let k = space.kappa();
+    let inverse_transpose = |m: &DMat3| {
+        if k == 0.0 {
+            m.inverse().transpose()
+        } else {
+            let g = DMat3::from_diagonal(DVec3::new(1.0, 1.0, k));
+            (g * m.transpose() * g).transpose()
+        }
+    };
+    let mut svg = String::new();
+    let height = size + 24;
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{height}" viewBox="0 0 {size} {height}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+    );
+    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        svg,
+        r#"<text x="12" y="22" font-size="16">{}</text>"#,
+        escape(title)
+    );
+    if layout.geometry != Geometry::Euclidean {
+        let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="#eceef2" stroke="#888" stroke-width="1"/>"##,
+            view.scale
+        );
+    }
+    for tile in tiles {
+        let m = recentre * tile.matrix;
+        let walls = inverse_transpose(&m);
+        let mut moved = layout.clone();
+        for v in &mut moved.vertices {
+            v.position = if v.ideal {
+                space.ideal_to_model(m * DVec3::new(v.position.re, v.position.im, 1.0))
+            } else {
+                space.to_model(m * space.to_ambient(v.position))
+            };
+        }
+        for e in &mut moved.edges {
+            e.wall = walls * e.wall;
+            e.geodesic = space.model_geodesic(e.wall);
+        }
+        moved.centre = space.to_model(m * space.to_ambient(layout.centre));
+        let n = moved.vertices.len();
+        if n < 2 {
+            continue;
+        }
+        let outline: String = (0..n)
+            .map(|i| side_path(&moved, &view, i, i == 0))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let fill = if tile.reflected { "#264653" } else { "#e9c46a" };
+        let _ = writeln!(
+            svg,
+            r##"<path d="{outline} Z" fill="{fill}" stroke="#222" stroke-width="0.6"/>"##
+        );
+    }
+    svg.push_str("</svg>\n");
+    svg
+}

@@ -65,7 +65,7 @@ fn options(args: &LayoutArgs) -> Result<LayoutOptions, CliError> {
 }
 
 /// Comma-separated finite numbers; the message names the option and the bad item.
-fn numbers(text: &str, option: &str) -> Result<Vec<f64>, CliError> {
+pub fn numbers(text: &str, option: &str) -> Result<Vec<f64>, CliError> {
     if text.trim().is_empty() {
         return Ok(Vec::new());
     }

@@ -4,3 +4,4 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod tiling;
