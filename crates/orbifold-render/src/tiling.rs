@@ -9,10 +9,9 @@
 //! image placed over the base polygon is read at the folded point, so it is carried to every
 //! tile and mirrored in the odd ones.
 
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::Geometry;
-use orbifold::cover::reflection;
 use orbifold::layout::Layout;
 use orbifold::space::Space;
 use rayon::prelude::*;
@@ -127,16 +126,23 @@ pub struct Picture {
 struct Fold {
     space: Space,
     walls: Vec<DVec3>,
-    reflections: Vec<DMat3>,
+    /// For each wall ν the vector n = (ν₁, ν₂, κν₃) with ν·n = 1: the reflection is p − 2(ν·p)n.
+    normals: Vec<DVec3>,
     /// The motif's frame: the base polygon's bounding box in model coordinates.
     frame: (Complex64, Complex64),
+    /// The distance from the polygon's centre to its nearest wall: pixels much larger than this
+    /// cover many tiles and are shaded as such, without folding.
+    inradius: f64,
 }
 
 impl Fold {
     fn new(layout: &Layout) -> Self {
         let space = layout.space();
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
-        let reflections = walls.iter().map(|&w| reflection(space, w)).collect();
+        let normals = walls
+            .iter()
+            .map(|w| DVec3::new(w.x, w.y, space.kappa() * w.z))
+            .collect();
         let mut lo = Complex64::new(f64::INFINITY, f64::INFINITY);
         let mut hi = -lo;
         for v in &layout.vertices {
@@ -146,11 +152,20 @@ impl Fold {
         if layout.vertices.len() < 3 {
             (lo, hi) = (Complex64::new(-1.0, -1.0), Complex64::new(1.0, 1.0));
         }
+        let centre = space.to_ambient(layout.centre);
+        let inradius = space.asin(
+            walls
+                .iter()
+                .map(|w| w.dot(centre))
+                .fold(f64::INFINITY, f64::min)
+                .max(0.0),
+        );
         Fold {
             space,
             walls,
-            reflections,
+            normals,
             frame: (lo, hi),
+            inradius,
         }
     }
 
@@ -158,25 +173,24 @@ impl Fold {
     /// it takes more than `limit` reflections.
     fn fold(&self, mut p: DVec3, limit: u32) -> Option<(DVec3, u32, usize)> {
         let (mut count, mut last) = (0u32, usize::MAX);
-        loop {
-            let (wall, value) = self
-                .walls
-                .iter()
-                .enumerate()
-                .map(|(i, w)| (i, w.dot(p) / p.z.abs().max(1.0)))
-                .fold(
-                    (usize::MAX, 0.0),
-                    |best, (i, v)| if v < best.1 { (i, v) } else { best },
-                );
-            if wall == usize::MAX || value > -1e-12 {
-                return Some((p, count, last));
+        'reflect: loop {
+            // Reflect in any wall the point lies outside of: each reflection crosses exactly one
+            // wall between the point and the base tile, whichever is chosen. The reflection is
+            // p − 2(ν·p) n, reusing the value just computed.
+            let tolerance = -1e-12 * p.z.abs().max(1.0);
+            for (i, (w, n)) in self.walls.iter().zip(&self.normals).enumerate() {
+                let value = w.dot(p);
+                if value < tolerance && i != last {
+                    if count >= limit {
+                        return None;
+                    }
+                    p -= 2.0 * value * *n;
+                    count += 1;
+                    last = i;
+                    continue 'reflect;
+                }
             }
-            if count >= limit {
-                return None;
-            }
-            p = self.reflections[wall] * p;
-            count += 1;
-            last = wall;
+            return Some((p, count, last));
         }
     }
 
@@ -237,6 +251,8 @@ pub fn render(layout: &Layout, view: &View, motif: Option<&Motif>) -> Result<Pic
 
 const BACKGROUND: [u8; 4] = [255, 255, 255, 255];
 const OUTSIDE: [u8; 4] = [236, 238, 242, 255];
+/// Pixels that cover many tiles: mostly edge colour.
+const DENSE: [u8; 4] = [70, 70, 80, 255];
 const EDGE: [f64; 3] = [40.0, 40.0, 48.0];
 const PALETTE: [[f64; 3]; 8] = [
     [231.0, 111.0, 81.0],
@@ -295,9 +311,24 @@ fn pixel(
     let screen = |x: f64, y: f64| Complex64::new((x - half) / half, (half - y) / half) / view.zoom;
     let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
     let space = fold.space;
-    let Some(p) = unproject(space, view.model, screen(x, y)) else {
+    let s = screen(x, y);
+    let Some(p) = unproject(space, view.model, s) else {
         return BACKGROUND;
     };
+    // The intrinsic size of this pixel: from the conformal factor in the conformal models,
+    // numerically (half a pixel to the right) in the others.
+    let model_pixel = 1.0 / (half * view.zoom);
+    let pixel_size = match view.model {
+        Model::Poincare | Model::Stereographic | Model::Euclidean => {
+            space.conformal_factor(s) * model_pixel
+        }
+        _ => unproject(space, view.model, screen(x + 0.5, y))
+            .map_or(f64::INFINITY, |q| 2.0 * intrinsic_distance(space, p, q)),
+    };
+    if pixel_size > 2.0 * fold.inradius {
+        // Many tiles under one pixel (near the boundary): their edges dominate.
+        return DENSE;
+    }
     let p = recentre.apply_ambient(p);
     let Some((folded, depth, last)) = fold.fold(p, view.max_depth) else {
         return OUTSIDE;
@@ -317,10 +348,6 @@ fn pixel(
         },
     };
     let colour = if view.edges {
-        // The intrinsic size of this pixel, from its neighbour half a pixel to the right.
-        let pixel_size = unproject(space, view.model, screen(x + 0.5, y))
-            .map(|q| 2.0 * intrinsic_distance(space, p, recentre.apply_ambient(q)))
-            .unwrap_or(f64::INFINITY);
         let distance_px = fold.wall_distance(folded) / pixel_size;
         let coverage = (1.3 - distance_px).clamp(0.0, 1.0);
         [0, 1, 2].map(|c| base[c] * (1.0 - coverage) + EDGE[c] * coverage)
