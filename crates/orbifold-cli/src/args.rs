@@ -42,6 +42,33 @@ pub enum Command {
     /// Draw the universal cover as a tiling: PNG (every pixel folded into the polygon) or SVG.
     #[command(after_help = TILING_EXAMPLES)]
     Tiling(TilingArgs),
+    /// Create and check mirror-room scene files (TOML; see docs/scene-format.md).
+    #[command(subcommand)]
+    Scene(SceneCommand),
+}
+
+/// Scene-file commands.
+#[derive(Debug, Subcommand)]
+pub enum SceneCommand {
+    /// Write a new scene: the built-in default room, or one on the given signature.
+    #[command(
+        after_help = "Examples:\n  orbifold scene new -o room.toml\n  orbifold scene new '*2333' -o room.toml"
+    )]
+    New {
+        /// The room's signature (default: the seed's *22222).
+        #[arg(value_name = "SIG")]
+        signature: Option<String>,
+        /// The file to write (written whole or not at all).
+        #[arg(long, short = 'o', value_name = "FILE")]
+        output: std::path::PathBuf,
+    },
+    /// Check scene files: every problem with its file, line, column and key; exit status 2 if any.
+    #[command(after_help = "Example:\n  orbifold scene check examples/scenes/*.toml")]
+    Check {
+        /// The scene files.
+        #[arg(value_name = "FILE", required = true)]
+        files: Vec<std::path::PathBuf>,
+    },
 }
 
 const TILING_EXAMPLES: &str = "\

@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         Command::Layout(args) => commands::layout::run(&args),
         Command::Cover(args) => commands::cover::run(&args),
         Command::Tiling(args) => commands::tiling::run(&args),
+        Command::Scene(command) => commands::scene::run(&command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,7 +1,7 @@
-//! Standard output that turns a closed pipe into a quiet stop, and files written atomically.
+//! Standard output that turns a closed pipe into a quiet stop; files are written atomically by
+//! the scene crate's `write_atomic`.
 
-use std::io::{self, BufWriter, StdoutLock, Write};
-use std::path::Path;
+use std::io::{self, BufWriter, StdoutLock};
 
 pub type Out = BufWriter<StdoutLock<'static>>;
 
@@ -9,29 +9,4 @@ pub fn stdout() -> Out {
     BufWriter::new(io::stdout().lock())
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so that
-/// a reader never sees half a file and a failure leaves any earlier file untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::other("the output path names no file"))?;
-    let temporary = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut file = std::fs::File::create(&temporary)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&temporary, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
-}
+pub use orbifold_scene::write_atomic;

@@ -1,8 +1,21 @@
 //! Mirror-room scenes: the document that the command line, the renderer, the preview and the
-//! studio all read and write (signature, layout, room, mirrors, materials, objects, lights,
-//! cameras), its file format and its validation. See `DESIGN.md` §7.
+//! studio all read and write — the orbifold and its layout, the room (height, mirrors,
+//! materials), objects, lights, the camera and render settings — its TOML file format
+//! (`docs/scene-format.md`), and its validation, with errors that give file, line, column and key.
+//! See DESIGN.md §7.
 //!
-//! Not yet written: the scene issue builds it. The crate exists so that the workspace has its
-//! final shape and dependencies point one way from the start.
+//! ```
+//! use orbifold_scene::Scene;
+//! let scene = Scene::default();
+//! assert_eq!(scene.orbifold.signature, "*22222");
+//! let text = scene.to_toml();
+//! assert_eq!(Scene::from_toml(&text, None).unwrap(), scene);
+//! ```
 
+pub mod document;
+pub mod file;
+pub mod validate;
+
+pub use document::*;
+pub use file::{SceneError, write_atomic};
 pub use orbifold;

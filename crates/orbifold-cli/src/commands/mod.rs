@@ -4,4 +4,5 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod scene;
 pub mod tiling;

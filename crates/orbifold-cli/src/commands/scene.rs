@@ -1,0 +1,50 @@
+//! `orbifold scene`: create and check scene files.
+
+use std::io::Write;
+
+use orbifold_scene::Scene;
+
+use crate::args::SceneCommand;
+use crate::error::CliError;
+use crate::output;
+
+pub fn run(command: &SceneCommand) -> Result<(), CliError> {
+    let mut out = output::stdout();
+    match command {
+        SceneCommand::New { signature, output } => {
+            let mut scene = Scene::default();
+            if let Some(signature) = signature {
+                scene.orbifold.signature = signature.clone();
+                // Keep the default objects, lights and camera only where they fit the new room.
+                let layout = scene.layout().map_err(CliError::Input)?;
+                let centre = [layout.centre.re, layout.centre.im];
+                scene.objects.iter_mut().for_each(|o| o.at = centre);
+                scene.lights.iter_mut().for_each(|l| l.at = centre);
+                scene.camera.at = centre;
+            }
+            let text = scene.to_toml();
+            if let Err(errors) = Scene::from_toml(&text, None) {
+                let list: Vec<String> = errors.iter().map(ToString::to_string).collect();
+                return Err(CliError::Input(list.join("\n")));
+            }
+            orbifold_scene::write_atomic(output, text.as_bytes())
+                .map_err(|e| CliError::Input(format!("cannot write {}: {e}", output.display())))?;
+            writeln!(out, "wrote {}", output.display())?;
+        }
+        SceneCommand::Check { files } => {
+            let mut problems = Vec::new();
+            for file in files {
+                match Scene::load(file) {
+                    Ok(_) => writeln!(out, "{}: ok", file.display())?,
+                    Err(errors) => problems.extend(errors.iter().map(ToString::to_string)),
+                }
+            }
+            out.flush()?;
+            if !problems.is_empty() {
+                return Err(CliError::Input(problems.join("\nerror: ")));
+            }
+        }
+    }
+    out.flush()?;
+    Ok(())
+}

@@ -1,0 +1,383 @@
+//! The scene document: everything that describes one mirror room.
+
+use serde::{Deserialize, Serialize};
+
+/// A linear RGB colour, each channel in [0, 1].
+pub type Color = [f64; 3];
+
+/// A mirror room and what is in it. Every field has a default, so a file needs only what it
+/// changes; [`Scene::default`] is the seed's default room `*22222` with a figure and a light.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Scene {
+    /// The orbifold and its polygon.
+    pub orbifold: OrbifoldSection,
+    /// The room built on the polygon.
+    pub room: Room,
+    /// Per-wall mirrors and materials (walls not listed use the room's defaults).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub walls: Vec<Wall>,
+    /// Objects placed in the room.
+    pub objects: Vec<Object>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// The camera.
+    pub camera: Camera,
+    /// Render settings.
+    pub render: Render,
+}
+
+/// The signature and its layout.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OrbifoldSection {
+    /// Kaleidoscopic signature, such as `*22222`.
+    pub signature: String,
+    /// `default` (free parameters, 1.4 each unless given) or `incircle`.
+    pub shape: ShapeName,
+    /// Free shape parameters (see docs/layout.md); empty means the shape's defaults.
+    pub parameters: Vec<f64>,
+    /// Where the polygon's centre goes, in model coordinates.
+    pub at: [f64; 2],
+    /// Turn of the polygon about its centre, in degrees.
+    pub angle: f64,
+}
+
+/// The polygon's shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum ShapeName {
+    /// The free parameters (seed default 1.4 each).
+    #[default]
+    Default,
+    /// The polygon with an inscribed circle.
+    Incircle,
+}
+
+/// The prism over the polygon.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Room {
+    /// Height of the walls, in intrinsic units (> 0).
+    pub height: f64,
+    /// Whether walls not listed in `[[walls]]` are whole mirrors (`all`) or plain walls (`none`).
+    pub mirrors: MirrorDefault,
+    /// Reflectance of those default mirrors.
+    pub reflectance: Color,
+    /// Material of wall parts without a mirror.
+    pub wall_material: Material,
+    /// The floor.
+    pub floor: Material,
+    /// The ceiling.
+    pub ceiling: Material,
+}
+
+/// What a wall without an entry is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum MirrorDefault {
+    /// A whole mirror.
+    #[default]
+    All,
+    /// A plain wall.
+    None,
+}
+
+/// One wall's mirrors and material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct Wall {
+    /// The wall's index: wall i joins corner i to corner i + 1.
+    pub index: usize,
+    /// The wall's material where there is no mirror (default: the room's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material: Option<Material>,
+    /// Mirrors on this wall (none means a plain wall).
+    pub mirrors: Vec<Mirror>,
+}
+
+/// A rectangular mirror in the wall's own coordinates: arc length along the wall from its first
+/// corner (as fractions of the wall's length, 0 to 1) × height (intrinsic units from the floor).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Mirror {
+    /// Where the mirror starts along the wall, as a fraction of its length.
+    pub from: f64,
+    /// Where it ends along the wall.
+    pub to: f64,
+    /// Its lower edge, above the floor.
+    pub bottom: f64,
+    /// Its upper edge (at most the room's height; absent means up to the ceiling).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub top: Option<f64>,
+    /// Reflectance per channel, in [0, 1].
+    pub reflectance: Color,
+}
+
+impl Default for Mirror {
+    fn default() -> Self {
+        Mirror {
+            from: 0.0,
+            to: 1.0,
+            bottom: 0.0,
+            top: None,
+            reflectance: [0.9; 3],
+        }
+    }
+}
+
+/// A surface's look.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "lowercase")]
+pub enum Material {
+    /// One colour.
+    Color {
+        /// The colour.
+        color: Color,
+    },
+    /// A checkerboard.
+    Checker {
+        /// The two colours.
+        colors: [Color; 2],
+        /// The size of a square.
+        size: f64,
+        /// Whether squares are laid out in model or intrinsic coordinates.
+        #[serde(default)]
+        coordinates: Coordinates,
+    },
+    /// An image.
+    Texture {
+        /// A PNG or JPEG file, relative to the scene file.
+        path: String,
+        /// The size the image covers.
+        scale: f64,
+        /// Model or intrinsic coordinates.
+        #[serde(default)]
+        coordinates: Coordinates,
+    },
+}
+
+/// Where a pattern is laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Coordinates {
+    /// Model coordinates (the picture of the floor in the model).
+    #[default]
+    Model,
+    /// Intrinsic coordinates (exponential map at the polygon's centre).
+    Intrinsic,
+}
+
+/// Something placed in the room.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Object {
+    /// A built-in shape: `sphere`, `torus`, `cube`, `figure`, `letter-p`, `letter-q`,
+    /// `letter-b`, `letter-d`, `letter-f`; ignored when `mesh` is given.
+    pub shape: String,
+    /// An OBJ, PLY, glTF or GLB file, relative to the scene file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<String>,
+    /// Model position of the object's centre of mass.
+    pub at: [f64; 2],
+    /// Height of the object's lowest point above the floor.
+    pub height: f64,
+    /// Turn about the vertical axis, in degrees.
+    pub yaw: f64,
+    /// Size: the object's largest extent, in intrinsic units.
+    pub size: f64,
+    /// Its material.
+    pub material: Material,
+}
+
+impl Default for Object {
+    fn default() -> Self {
+        Object {
+            shape: "figure".into(),
+            mesh: None,
+            at: [0.0, 0.0],
+            height: 0.0,
+            yaw: 0.0,
+            size: 0.5,
+            material: Material::Color {
+                color: [0.85, 0.85, 0.8],
+            },
+        }
+    }
+}
+
+/// A light source.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Light {
+    /// `point`, `spot`, `sphere` or `rectangle`.
+    pub kind: LightKind,
+    /// Model position.
+    pub at: [f64; 2],
+    /// Height above the floor.
+    pub height: f64,
+    /// Colour.
+    pub color: Color,
+    /// Power, in watts.
+    pub power: f64,
+    /// Direction (spot and rectangle): bearing from the model's +x axis, degrees.
+    pub yaw: f64,
+    /// Direction (spot and rectangle): elevation, degrees (−90 points down).
+    pub pitch: f64,
+    /// Spot cone half-angle in degrees.
+    pub cone: f64,
+    /// Sphere radius, intrinsic units.
+    pub radius: f64,
+    /// Rectangle size, intrinsic units.
+    pub size: [f64; 2],
+}
+
+impl Default for Light {
+    fn default() -> Self {
+        Light {
+            kind: LightKind::Point,
+            at: [0.0, 0.0],
+            height: 0.9,
+            color: [1.0, 0.95, 0.9],
+            power: 20.0,
+            yaw: 0.0,
+            pitch: -90.0,
+            cone: 30.0,
+            radius: 0.05,
+            size: [0.2, 0.2],
+        }
+    }
+}
+
+/// The kind of a light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum LightKind {
+    /// A point.
+    #[default]
+    Point,
+    /// A spot light.
+    Spot,
+    /// A spherical area light.
+    Sphere,
+    /// A rectangular area light.
+    Rectangle,
+}
+
+/// The camera (DESIGN.md §8).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Camera {
+    /// `pinhole` or `panorama`.
+    pub kind: CameraKind,
+    /// Model position.
+    pub at: [f64; 2],
+    /// Eye height above the floor.
+    pub height: f64,
+    /// Bearing from the model's +x direction, counter-clockwise, degrees.
+    pub yaw: f64,
+    /// Elevation, degrees.
+    pub pitch: f64,
+    /// Vertical field of view, degrees (pinhole).
+    pub fov: f64,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            kind: CameraKind::Pinhole,
+            at: [-0.2, 0.0],
+            height: 0.5,
+            yaw: 0.0,
+            pitch: 0.0,
+            fov: 70.0,
+        }
+    }
+}
+
+/// The kind of camera.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum CameraKind {
+    /// A pinhole camera.
+    #[default]
+    Pinhole,
+    /// An equirectangular panorama.
+    Panorama,
+}
+
+/// Render settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Render {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub samples: u32,
+    /// Maximum path depth (bounces).
+    pub max_depth: u32,
+}
+
+impl Default for Render {
+    fn default() -> Self {
+        Render {
+            width: 640,
+            height: 480,
+            samples: 64,
+            max_depth: 32,
+        }
+    }
+}
+
+impl Default for OrbifoldSection {
+    fn default() -> Self {
+        OrbifoldSection {
+            signature: "*22222".into(),
+            shape: ShapeName::Default,
+            parameters: Vec::new(),
+            at: [0.0, 0.0],
+            angle: 0.0,
+        }
+    }
+}
+
+impl Default for Room {
+    fn default() -> Self {
+        Room {
+            height: 1.0,
+            mirrors: MirrorDefault::All,
+            reflectance: [0.9; 3],
+            wall_material: Material::Color {
+                color: [0.75, 0.82, 0.9],
+            },
+            floor: Material::Checker {
+                colors: [[0.9, 0.8, 0.7], [0.6, 0.45, 0.35]],
+                size: 0.1,
+                coordinates: Coordinates::Intrinsic,
+            },
+            ceiling: Material::Color {
+                color: [0.25, 0.3, 0.5],
+            },
+        }
+    }
+}
+
+impl Default for Scene {
+    /// The seed's default room `*22222`: all walls mirrors, a figure, a light, a camera.
+    fn default() -> Self {
+        Scene {
+            orbifold: OrbifoldSection::default(),
+            room: Room::default(),
+            walls: Vec::new(),
+            objects: vec![Object::default()],
+            lights: vec![Light {
+                at: [0.1, 0.1],
+                ..Light::default()
+            }],
+            camera: Camera::default(),
+            render: Render::default(),
+        }
+    }
+}
