@@ -31,6 +31,7 @@ pub mod layout;
 pub mod necklace;
 pub mod notation;
 pub mod order;
+pub mod room;
 pub mod signature;
 pub mod space;
 pub mod table;

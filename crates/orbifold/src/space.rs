@@ -6,7 +6,7 @@
 //! form ν on ambient coordinates, normalised so that ν₁² + ν₂² + κν₃² = 1; then S_κ(d) = ν·p is
 //! the signed distance d from the wall to p, positive on the wall's inner side.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 
 use crate::euler::Geometry;
@@ -185,6 +185,80 @@ impl Space {
             let radius = 1.0 / nu.z.abs();
             ModelGeodesic::Circle { centre, radius }
         }
+    }
+
+    /// Scales a nonzero vector onto the model surface: p/|p| on the sphere, p/√(z² − x² − y²) on
+    /// the hyperboloid (for a future-pointing timelike vector), p/p₃ in the plane w = 1. This is
+    /// the central projection that makes straight segments of ℝ³ into geodesics, so that
+    /// `normalize_point(Σ wᵢ pᵢ)` is an intrinsically flat triangle (DESIGN.md §7).
+    pub fn normalize_point(&self, p: DVec3) -> DVec3 {
+        if self.kappa == 0.0 {
+            p / p.z
+        } else {
+            p / (self.kappa * self.point_dot(p, p)).sqrt()
+        }
+    }
+
+    /// The intrinsic distance between two ambient points, 2·asin_κ(c/2) with c the chord
+    /// √⟨p − q, p − q⟩: accurate for near and far points alike (no acos of a number near 1).
+    ///
+    /// ```
+    /// use orbifold::space::Space;
+    /// use orbifold::Geometry;
+    /// use num_complex::Complex64;
+    /// let s = Space::new(Geometry::Spherical);
+    /// let (z, w) = (Complex64::new(0.1, 0.2), Complex64::new(-0.4, 0.3));
+    /// let d = s.ambient_distance(s.to_ambient(z), s.to_ambient(w));
+    /// assert!((d - s.distance(z, w)).abs() < 1e-14);
+    /// ```
+    pub fn ambient_distance(&self, p: DVec3, q: DVec3) -> f64 {
+        let d = p - q;
+        let chord = self.point_dot(d, d).max(0.0).sqrt();
+        2.0 * self.asin(0.5 * chord)
+    }
+
+    /// The point at fraction `t` of the intrinsic length along the geodesic from `p` to `q`:
+    /// (S_κ((1 − t)d)·p + S_κ(t d)·q)/S_κ(d). A linear combination of `p` and `q`, so it lies
+    /// exactly on every wall through both. `p` and `q` must not be antipodal.
+    pub fn interpolate(&self, p: DVec3, q: DVec3, t: f64) -> DVec3 {
+        let d = self.ambient_distance(p, q);
+        let s = self.sin(d);
+        if d < 1e-9 || s.abs() < 1e-300 {
+            return self.normalize_point(p * (1.0 - t) + q * t);
+        }
+        (p * self.sin((1.0 - t) * d) + q * self.sin(t * d)) / s
+    }
+
+    /// The tangent vector at `p` of the geodesic towards `q`, with length the distance from `p`
+    /// to `q` (zero when they coincide). Its inner product with another such vector is
+    /// [`Space::point_dot`].
+    pub fn log(&self, p: DVec3, q: DVec3) -> DVec3 {
+        let d = self.ambient_distance(p, q);
+        let t = q - p * self.cos(d);
+        let n = self.point_dot(t, t).max(0.0).sqrt();
+        if n == 0.0 { DVec3::ZERO } else { t * (d / n) }
+    }
+
+    /// The point reached from `p` by the tangent vector `v`: C_κ(|v|)·p + S_κ(|v|)·v/|v|.
+    pub fn exp(&self, p: DVec3, v: DVec3) -> DVec3 {
+        let n = self.point_dot(v, v).max(0.0).sqrt();
+        if n == 0.0 {
+            return p;
+        }
+        p * self.cos(n) + v * (self.sin(n) / n)
+    }
+
+    /// The intrinsic area of the geodesic triangle with ambient corners `p`, `q`, `r`: for κ ≠ 0
+    /// from tan(A/2) = |det(p, q, r)| / (1 + C(a) + C(b) + C(c)) with C(a) = κ⟨p, q⟩ (Van
+    /// Oosterom–Strackee, and its hyperbolic twin), for κ = 0 half the cross product. Exact for
+    /// tiny triangles, where the angle excess would cancel.
+    pub fn triangle_area(&self, p: DVec3, q: DVec3, r: DVec3) -> f64 {
+        let det = DMat3::from_cols(p, q, r).determinant().abs();
+        if self.kappa == 0.0 {
+            return 0.5 * det;
+        }
+        let c = |a: DVec3, b: DVec3| self.kappa * self.point_dot(a, b);
+        2.0 * det.atan2(1.0 + c(p, q) + c(q, r) + c(r, p))
     }
 
     /// The unit tangent direction, in model coordinates, of the geodesic from `z` towards `w`
