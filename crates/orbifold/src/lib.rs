@@ -22,6 +22,7 @@
 
 pub mod conway;
 pub mod cover;
+pub mod embed;
 pub mod enumerate;
 pub mod euler;
 pub mod groups;
