@@ -45,6 +45,60 @@ pub enum Command {
     /// Create and check mirror-room scene files (TOML; see docs/scene-format.md).
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// Mesh a mirror room (floor, ceiling, walls, mirrors, objects) and export it as OBJ, PLY or
+    /// glTF, optionally with every copy under the group up to a depth.
+    #[command(after_help = ROOM_EXAMPLES)]
+    Room(RoomArgs),
+}
+
+const ROOM_EXAMPLES: &str = "\
+Examples:
+  orbifold room '*2223' -o room.obj                 the room of a signature, all walls mirrors
+  orbifold room examples/scenes/default.toml -o room.glb --json
+  orbifold room '*333' -o kaleidoscope.ply --cover 4  the room and its copies to depth 4
+
+Groups are named floor, ceiling, wall I (wall parts without a mirror), mirror I.J (mirror J of
+wall I) and the objects' names; with --cover, the copies of each are in `<name> copies`.
+Coordinates are model x, model y and height (glTF: x, height, -y, as glTF is Y up). Ideal
+corners are cut off at the distance reported. A bare signature gets the scene defaults and no
+objects.";
+
+/// The floor and ceiling tessellation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TessellationArg {
+    /// The seed's contour-based method: rungs across the polygon between boundary samples.
+    Contour,
+    /// A fan from the centre refined by geodesic midpoint subdivision.
+    Geodesic,
+}
+
+#[derive(Debug, Args)]
+pub struct RoomArgs {
+    /// A kaleidoscopic signature, or a scene file (`.toml`).
+    #[arg(value_name = "SIG|SCENE")]
+    pub input: String,
+    /// The mesh file to write: `.obj` (with a `.mtl` beside it), `.ply` or `.glb`.
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: std::path::PathBuf,
+    /// The longest edge wanted, in intrinsic units (default: the scene's, 0.1).
+    #[arg(long, value_name = "L")]
+    pub resolution: Option<f64>,
+    /// Also write every copy of the room and its objects under the group up to this many
+    /// reflections.
+    #[arg(long, value_name = "DEPTH")]
+    pub cover: Option<usize>,
+    /// The floor and ceiling tessellation (default: the scene's, contour).
+    #[arg(long, value_enum)]
+    pub tessellation: Option<TessellationArg>,
+    /// Cut ideal corners off at this intrinsic distance from the polygon's centre.
+    #[arg(long, value_name = "D")]
+    pub cusp: Option<f64>,
+    /// The wall height (default: the scene's, 1).
+    #[arg(long, value_name = "H")]
+    pub height: Option<f64>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Scene-file commands.

@@ -24,6 +24,7 @@ fn main() -> ExitCode {
         Command::Cover(args) => commands::cover::run(&args),
         Command::Tiling(args) => commands::tiling::run(&args),
         Command::Scene(command) => commands::scene::run(&command),
+        Command::Room(args) => commands::room::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

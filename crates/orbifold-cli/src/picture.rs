@@ -342,3 +342,31 @@ pub fn tiling_svg(
     svg.push_str("</svg>\n");
     svg
 }
+
+/// The layout picture with a floor tessellation drawn over it: every triangle edge as a thin
+/// line between its model points (edges are short geodesics, nearly straight at mesh scale).
+pub fn mesh_svg(
+    layout: &Layout,
+    points: &[Complex64],
+    triangles: &[[u32; 3]],
+    title: &str,
+    size: u32,
+) -> String {
+    let view = View::fit(layout, f64::from(size));
+    let mut svg = layout_svg(layout, title, size);
+    let end = svg.rfind("</svg>").unwrap_or(svg.len());
+    let mut mesh = String::from(
+        r##"<g fill="none" stroke="#334" stroke-width="0.5" stroke-opacity="0.75" stroke-linejoin="round">"##,
+    );
+    for t in triangles {
+        let [a, b, c] = t.map(|i| view.px(points[i as usize]));
+        let _ = write!(
+            mesh,
+            r#"<path d="M{:.2} {:.2}L{:.2} {:.2}L{:.2} {:.2}Z"/>"#,
+            a.0, a.1, b.0, b.1, c.0, c.1
+        );
+    }
+    mesh.push_str("</g>\n");
+    svg.insert_str(end, &mesh);
+    svg
+}

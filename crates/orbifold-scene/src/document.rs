@@ -25,6 +25,44 @@ pub struct Scene {
     pub camera: Camera,
     /// Render settings.
     pub render: Render,
+    /// Real-time preview settings.
+    pub preview: Preview,
+}
+
+/// Settings of the real-time preview (seed Fig. 8.6).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Preview {
+    /// How many reflections deep the copies of the room go.
+    pub depth: u32,
+    /// How copies fade.
+    pub attenuation: Attenuation,
+}
+
+impl Default for Preview {
+    fn default() -> Self {
+        Preview {
+            depth: 6,
+            attenuation: Attenuation::Reflectance,
+        }
+    }
+}
+
+/// How copies of the room fade in the preview (seed Fig. 8.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Attenuation {
+    /// As in a real mirror room: each copy by the product of the reflectances of the mirrors
+    /// its light crossed.
+    #[default]
+    Reflectance,
+    /// Emphasise the orbifold: the room itself bright, every copy faint.
+    Orbifold,
+    /// Emphasise the translational cover: copies that are not mirror images (an even number of
+    /// reflections) bright, mirror images faint.
+    Translations,
+    /// The universal cover: every copy equally bright.
+    Universal,
 }
 
 /// The signature and its layout.
@@ -70,6 +108,25 @@ pub struct Room {
     pub floor: Material,
     /// The ceiling.
     pub ceiling: Material,
+    /// Mesh resolution: the longest edge wanted, in intrinsic units (> 0).
+    pub resolution: f64,
+    /// How the floor and ceiling are meshed: `contour` (the seed's) or `geodesic`.
+    pub tessellation: Tessellation,
+    /// Ideal corners are cut off at this intrinsic distance from the polygon's centre (absent: 3
+    /// beyond the farthest finite corner).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cusp_distance: Option<f64>,
+}
+
+/// The floor and ceiling tessellation method (see `orbifold::room`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Tessellation {
+    /// The seed's contour-based tessellation.
+    #[default]
+    Contour,
+    /// A fan from the centre refined by geodesic midpoint subdivision.
+    Geodesic,
 }
 
 /// What a wall without an entry is.
@@ -172,6 +229,9 @@ pub enum Coordinates {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Object {
+    /// A name for the object in exports and hit reports (absent: `object i`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// A built-in shape: `sphere`, `torus`, `cube`, `figure`, `letter-p`, `letter-q`,
     /// `letter-b`, `letter-d`, `letter-f`; ignored when `mesh` is given.
     pub shape: String,
@@ -193,6 +253,7 @@ pub struct Object {
 impl Default for Object {
     fn default() -> Self {
         Object {
+            name: None,
             shape: "figure".into(),
             mesh: None,
             at: [0.0, 0.0],
@@ -360,6 +421,9 @@ impl Default for Room {
             ceiling: Material::Color {
                 color: [0.25, 0.3, 0.5],
             },
+            resolution: 0.1,
+            tessellation: Tessellation::Contour,
+            cusp_distance: None,
         }
     }
 }
@@ -378,6 +442,7 @@ impl Default for Scene {
             }],
             camera: Camera::default(),
             render: Render::default(),
+            preview: Preview::default(),
         }
     }
 }

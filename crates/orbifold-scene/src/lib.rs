@@ -13,7 +13,10 @@
 //! ```
 
 pub mod document;
+pub mod export;
 pub mod file;
+pub mod geometry;
+pub mod mesh;
 pub mod validate;
 
 pub use document::*;

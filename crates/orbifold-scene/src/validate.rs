@@ -74,6 +74,10 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
     material(&mut p, "room.wall_material", &room.wall_material, base);
     material(&mut p, "room.floor", &room.floor, base);
     material(&mut p, "room.ceiling", &room.ceiling, base);
+    positive(&mut p, "room.resolution", room.resolution);
+    if let Some(d) = room.cusp_distance {
+        positive(&mut p, "room.cusp_distance", d);
+    }
     walls(&mut p, scene, layout.as_ref());
     let inside = |at: [f64; 2]| layout.as_ref().is_none_or(|l| is_inside(l, at));
     for (i, o) in scene.objects.iter().enumerate() {
@@ -174,6 +178,12 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
                 "the field of view must be between 0 and 180 degrees, not {}",
                 c.fov
             ),
+        ));
+    }
+    if scene.preview.depth > 64 {
+        p.push((
+            "preview.depth".into(),
+            format!("must be at most 64, not {}", scene.preview.depth),
         ));
     }
     let r = &scene.render;

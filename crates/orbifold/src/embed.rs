@@ -74,7 +74,9 @@ pub fn embed(space: Space, positions: &[[f64; 3]], centre: DVec3, scale: f64) ->
 /// The centre of mass of a closed triangle mesh (of the solid it bounds), or of its surface when
 /// the enclosed volume vanishes (an open or flat mesh), or of its vertices when that vanishes too.
 pub fn centre_of_mass(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> DVec3 {
-    let corner = |t: &[u32; 3], k: usize| DVec3::from(positions[t[k] as usize]);
+    // Sums relative to the first vertex stay accurate for meshes far from their file's origin.
+    let origin = positions.first().map_or(DVec3::ZERO, |p| DVec3::from(*p));
+    let corner = |t: &[u32; 3], k: usize| DVec3::from(positions[t[k] as usize]) - origin;
     let (mut volume, mut moment) = (0.0, DVec3::ZERO);
     let (mut area, mut area_moment) = (0.0, DVec3::ZERO);
     for t in triangles {
@@ -89,12 +91,12 @@ pub fn centre_of_mass(positions: &[[f64; 3]], triangles: &[[u32; 3]]) -> DVec3 {
     }
     let extent = positions
         .iter()
-        .map(|p| DVec3::from(*p).abs().max_element())
+        .map(|p| (DVec3::from(*p) - origin).abs().max_element())
         .fold(0.0, f64::max);
     if volume.abs() > 1e-9 * extent.powi(3) {
-        moment / volume
+        origin + moment / volume
     } else if area > 1e-12 * extent.powi(2) {
-        area_moment / area
+        origin + area_moment / area
     } else {
         positions.iter().map(|p| DVec3::from(*p)).sum::<DVec3>() / positions.len().max(1) as f64
     }

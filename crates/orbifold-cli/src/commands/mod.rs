@@ -4,5 +4,6 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod room;
 pub mod scene;
 pub mod tiling;

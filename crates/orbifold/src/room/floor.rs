@@ -5,7 +5,8 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::boundary::Boundary;
-use super::surface::Surface;
+use super::surface::{Surface, angle};
+use crate::space::Space;
 
 /// A boundary sample: its ambient point, the side it starts on, and whether it is a corner.
 #[derive(Clone, Copy, Debug)]
@@ -69,44 +70,50 @@ fn on_one_side(boundary: &Boundary, a: Sample, b: Sample) -> bool {
 /// boundary samples all lie on one great circle) the rungs are the half small circles through
 /// the interior, as the seed's straight lines are.
 pub fn contour(boundary: &Boundary, resolution: f64) -> Surface {
-    let space = boundary.space;
     let samples = boundary_samples(boundary, resolution);
     let m = samples.len();
-    let half = m / 2;
-    let sample = |start: usize, i: usize| samples[(start + i) % m];
-    let hemisphere = boundary.sides.iter().all(|s| s.wall == Some(0)) && boundary.len() == 4;
-    // The rungs that cross the polygon: from i = 1 up to (not including) the first pair on one
-    // side — after it the rest of the boundary closes the strip.
-    let crossing = |start: usize| {
-        (1..half)
-            .take_while(|&i| {
-                hemisphere || !on_one_side(boundary, sample(start, i), sample(start, m - i))
-            })
-            .count()
-    };
-    let longest_rung = |start: usize| {
-        (1..=crossing(start))
-            .map(|i| {
-                let (a, b) = (sample(start, i).point, sample(start, m - i).point);
-                rung_length(boundary, a, b, hemisphere)
-            })
-            .fold(0.0, f64::max)
-    };
-    // Start at a corner, so that the first rung does not run along a wall; of those, the one
-    // whose longest rung is shortest.
-    let start = (0..m)
+    let hemisphere = is_hemisphere(boundary);
+    // Start at a corner, so that the first rung does not run along a wall. Of (up to 8 of)
+    // those, keep the mesh whose smallest angle is largest.
+    let corners: Vec<usize> = (0..m)
         .filter(|&k| {
             let (before, after) = (samples[(k + m - 1) % m], samples[(k + 1) % m]);
             samples[k].corner && (hemisphere || !on_one_side(boundary, before, after))
         })
-        .min_by(|&a, &b| longest_rung(a).total_cmp(&longest_rung(b)))
-        .unwrap_or(0);
+        .collect();
+    let step = corners.len().div_ceil(8).max(1);
+    corners
+        .iter()
+        .step_by(step)
+        .map(|&start| contour_from(boundary, &samples, start, resolution))
+        .max_by(|a, b| {
+            let (qa, qb) = (a.quality(boundary.space), b.quality(boundary.space));
+            qa.smallest_angle.total_cmp(&qb.smallest_angle)
+        })
+        .unwrap_or_else(|| contour_from(boundary, &samples, 0, resolution))
+}
 
+/// `*`: every boundary sample lies on the one great circle.
+fn is_hemisphere(boundary: &Boundary) -> bool {
+    boundary.sides.iter().all(|s| s.wall == Some(0)) && boundary.len() == 4
+}
+
+/// The contour tessellation pairing sample `start + i` with sample `start − i`.
+fn contour_from(boundary: &Boundary, samples: &[Sample], start: usize, resolution: f64) -> Surface {
+    let space = boundary.space;
+    let m = samples.len();
+    let half = m / 2;
+    let sample = |i: usize| samples[(start + i) % m];
+    let hemisphere = is_hemisphere(boundary);
+    // The rungs that cross the polygon: from i = 1 up to (not including) the first pair on one
+    // side — after it the rest of the boundary closes the strip.
+    let rungs = (1..half)
+        .take_while(|&i| hemisphere || !on_one_side(boundary, sample(i), sample(m - i)))
+        .count();
     let mut surface = Surface::default();
-    let mut previous: Vec<u32> = vec![surface.push(sample(start, 0).point, 0.0)];
-    let rungs = crossing(start);
+    let mut previous: Vec<u32> = vec![surface.push(sample(0).point, 0.0)];
     for i in 1..=rungs {
-        let (a, b) = (sample(start, i).point, sample(start, m - i).point);
+        let (a, b) = (sample(i).point, sample(m - i).point);
         let n = ((rung_length(boundary, a, b, hemisphere) / resolution).ceil() as usize).max(1);
         let rung: Vec<u32> = (0..=n)
             .map(|k| {
@@ -119,14 +126,14 @@ pub fn contour(boundary: &Boundary, resolution: f64) -> Surface {
                 surface.push(p, 0.0)
             })
             .collect();
-        zip(&mut surface, &previous, &rung);
+        zip(&mut surface, &previous, &rung, space);
         previous = rung;
     }
     // The rest of the boundary, from the top side round to the bottom side, closes the strip.
     let rest: Vec<u32> = (rungs + 1..=m - rungs - 1)
-        .map(|i| surface.push(sample(start, i).point, 0.0))
+        .map(|i| surface.push(sample(i).point, 0.0))
         .collect();
-    zip(&mut surface, &previous, &rest);
+    zip(&mut surface, &previous, &rest, space);
     surface
 }
 
@@ -152,32 +159,42 @@ fn small_circle_point(pole: DVec3, a: DVec3, b: DVec3, t: f64) -> DVec3 {
 
 /// Triangulates the strip between two chains of vertices whose first and last vertices are
 /// joined by the boundary. The chains advance in step by their fraction of the way along (so that
-/// a diagonal is never much longer than the gap between the chains plus one piece), and on a tie
-/// by the shorter diagonal.
-fn zip(surface: &mut Surface, a: &[u32], b: &[u32]) {
+/// a diagonal is never much longer than the gap between the chains plus one piece), unless the
+/// other choice makes a triangle with a much larger smallest angle (near corners, where three
+/// samples of one wall would make a flat triangle).
+fn zip(surface: &mut Surface, a: &[u32], b: &[u32], space: Space) {
     let (mut j, mut k) = (0, 0);
-    let point = |s: &Surface, i: u32| s.points[i as usize];
     let fraction = |i: usize, chain: &[u32]| i as f64 / (chain.len() - 1).max(1) as f64;
+    let smallest_angle = |s: &Surface, t: [u32; 3]| {
+        let [p, q, r] = t.map(|i| s.points[i as usize]);
+        angle(space, p, q, r)
+            .min(angle(space, q, r, p))
+            .min(angle(space, r, p, q))
+    };
     while j + 1 < a.len() || k + 1 < b.len() {
+        let along_a = [a[j], a[j + 1.min(a.len() - 1 - j)], b[k]];
+        let along_b = [a[j], b[k + 1.min(b.len() - 1 - k)], b[k]];
         let advance_a = if j + 1 == a.len() {
             false
         } else if k + 1 == b.len() {
             true
         } else {
-            let (fa, fb) = (fraction(j + 1, a), fraction(k + 1, b));
-            if (fa - fb).abs() > 1e-12 {
-                fa < fb
+            let in_step = fraction(j + 1, a) <= fraction(k + 1, b);
+            let (qa, qb) = (
+                smallest_angle(surface, along_a),
+                smallest_angle(surface, along_b),
+            );
+            if in_step {
+                qa >= 0.5 * qb
             } else {
-                let via_a = (point(surface, a[j + 1]) - point(surface, b[k])).length_squared();
-                let via_b = (point(surface, a[j]) - point(surface, b[k + 1])).length_squared();
-                via_a <= via_b
+                qb < 0.5 * qa
             }
         };
         if advance_a {
-            surface.push_upward([a[j], a[j + 1], b[k]]);
+            surface.push_upward(along_a);
             j += 1;
         } else {
-            surface.push_upward([a[j], b[k + 1], b[k]]);
+            surface.push_upward(along_b);
             k += 1;
         }
     }

@@ -1,0 +1,241 @@
+//! Mesh export: Wavefront OBJ (with an MTL file of named materials), binary PLY and glTF binary
+//! (GLB), one named group per part of the room.
+//!
+//! Coordinates are the model's x and y and the height above the floor, in that order, for OBJ
+//! and PLY (Z up: in Blender choose "Up: Z" when importing OBJ). glTF is Y up by specification,
+//! so there a vertex (x, y, h) is written as (x, h, −y); every importer then shows the room
+//! upright. The files say so in their headers (a comment in OBJ and PLY, `asset.extras` in glTF).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde_json::json;
+
+use crate::file::write_atomic;
+use crate::geometry::MeshGroup;
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// Wavefront OBJ, with a `.mtl` beside it.
+    Obj,
+    /// Binary little-endian PLY, with a per-face group index.
+    Ply,
+    /// glTF 2.0 binary.
+    Glb,
+}
+
+impl ExportFormat {
+    /// The format a file name's extension asks for (`.obj`, `.ply`, `.glb`), if any.
+    pub fn from_path(path: &Path) -> Option<ExportFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Some(ExportFormat::Obj),
+            "ply" => Some(ExportFormat::Ply),
+            "glb" => Some(ExportFormat::Glb),
+            _ => None,
+        }
+    }
+}
+
+/// What the header of every export says about its coordinates.
+pub const COORDINATES_NOTE: &str = "coordinates: model x, model y, height above the floor (the model is the stereographic plane, \
+     the Euclidean plane or the Poincare disk; see docs/scene-format.md)";
+
+/// Writes `groups` to `path` in `format`, atomically (for OBJ also `path` with `.mtl`). Returns
+/// the files written.
+pub fn export(
+    groups: &[MeshGroup],
+    format: ExportFormat,
+    path: &Path,
+    title: &str,
+) -> std::io::Result<Vec<PathBuf>> {
+    match format {
+        ExportFormat::Obj => {
+            let mtl = path.with_extension("mtl");
+            let mtl_name = mtl
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "room.mtl".into());
+            write_atomic(&mtl, to_mtl(groups).as_bytes())?;
+            write_atomic(path, to_obj(groups, &mtl_name, title).as_bytes())?;
+            Ok(vec![path.to_path_buf(), mtl])
+        }
+        ExportFormat::Ply => {
+            write_atomic(path, &to_ply(groups, title))?;
+            Ok(vec![path.to_path_buf()])
+        }
+        ExportFormat::Glb => {
+            write_atomic(path, &to_glb(groups, title))?;
+            Ok(vec![path.to_path_buf()])
+        }
+    }
+}
+
+/// A name usable as an OBJ/MTL identifier (no spaces).
+pub fn identifier(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_whitespace() { '_' } else { c })
+        .collect()
+}
+
+/// The OBJ text: one `o` object with its `usemtl` per group.
+pub fn to_obj(groups: &[MeshGroup], mtl_name: &str, title: &str) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# {title}\n# {COORDINATES_NOTE}\nmtllib {mtl_name}");
+    let mut base = 1;
+    for g in groups {
+        if g.triangles.is_empty() {
+            continue;
+        }
+        let id = identifier(&g.name);
+        let _ = writeln!(out, "o {id}\nusemtl {id}");
+        for p in &g.positions {
+            let _ = writeln!(out, "v {} {} {}", p[0] as f32, p[1] as f32, p[2] as f32);
+        }
+        for t in &g.triangles {
+            let _ = writeln!(out, "f {} {} {}", t[0] + base, t[1] + base, t[2] + base);
+        }
+        base += g.positions.len() as u32;
+    }
+    out
+}
+
+/// The MTL text: a diffuse colour per group; mirrors get a specular colour and `illum 3`
+/// (reflection) as well.
+pub fn to_mtl(groups: &[MeshGroup]) -> String {
+    let mut out = String::from("# orbifold room materials\n");
+    for g in groups {
+        let [r, gr, b] = g.color;
+        let _ = writeln!(out, "newmtl {}", identifier(&g.name));
+        if g.mirror {
+            let _ = writeln!(out, "Kd 0 0 0\nKs {r} {gr} {b}\nNs 1000\nillum 3\n");
+        } else {
+            let _ = writeln!(out, "Kd {r} {gr} {b}\nKs 0 0 0\nillum 1\n");
+        }
+    }
+    out
+}
+
+/// Binary little-endian PLY: vertices with a colour, faces with a `group` index; the header's
+/// comments name the groups (`comment group 3 wall 0`).
+pub fn to_ply(groups: &[MeshGroup], title: &str) -> Vec<u8> {
+    let vertices: usize = groups.iter().map(|g| g.positions.len()).sum();
+    let faces: usize = groups.iter().map(|g| g.triangles.len()).sum();
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment {title}\ncomment {COORDINATES_NOTE}\n"
+    );
+    for (i, g) in groups.iter().enumerate() {
+        let _ = writeln!(header, "comment group {i} {}", g.name);
+    }
+    let _ = write!(
+        header,
+        "element vertex {vertices}\nproperty float x\nproperty float y\nproperty float z\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\n\
+         element face {faces}\nproperty list uchar int vertex_indices\nproperty int group\nend_header\n"
+    );
+    let mut out = header.into_bytes();
+    out.reserve(vertices * 15 + faces * 17);
+    for g in groups {
+        let rgb = g.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+        for p in &g.positions {
+            for c in p {
+                out.extend_from_slice(&(*c as f32).to_le_bytes());
+            }
+            out.extend_from_slice(&rgb);
+        }
+    }
+    let mut base = 0u32;
+    for (i, g) in groups.iter().enumerate() {
+        for t in &g.triangles {
+            out.push(3);
+            for v in t {
+                out.extend_from_slice(&((v + base) as i32).to_le_bytes());
+            }
+            out.extend_from_slice(&(i as i32).to_le_bytes());
+        }
+        base += g.positions.len() as u32;
+    }
+    out
+}
+
+/// glTF 2.0 binary: one mesh and one node per group, named as the group, with a PBR material
+/// (mirrors metallic and smooth).
+pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
+    let mut bin: Vec<u8> = Vec::new();
+    let (mut views, mut accessors, mut meshes, mut nodes, mut materials) =
+        (vec![], vec![], vec![], vec![], vec![]);
+    for g in groups.iter().filter(|g| !g.triangles.is_empty()) {
+        // glTF is Y up: (x, y, h) ↦ (x, h, −y) keeps handedness and puts the floor down.
+        let positions: Vec<[f32; 3]> = g
+            .positions
+            .iter()
+            .map(|p| [p[0] as f32, p[2] as f32, -p[1] as f32])
+            .collect();
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for p in &positions {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let position_view = views.len();
+        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": positions.len() * 12, "target": 34962}));
+        for p in &positions {
+            for c in p {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        let index_view = views.len();
+        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": g.triangles.len() * 12, "target": 34963}));
+        for t in &g.triangles {
+            for v in t {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        let position_accessor = accessors.len();
+        accessors.push(json!({"bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi}));
+        accessors.push(json!({"bufferView": index_view, "componentType": 5125, "count": g.triangles.len() * 3, "type": "SCALAR"}));
+        let [r, gr, b] = g.color;
+        let (metallic, roughness) = if g.mirror { (1.0, 0.02) } else { (0.0, 0.8) };
+        materials.push(json!({"name": g.name, "doubleSided": true, "pbrMetallicRoughness": {
+            "baseColorFactor": [r, gr, b, 1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}));
+        meshes.push(json!({"name": g.name, "primitives": [{
+            "attributes": {"POSITION": position_accessor}, "indices": position_accessor + 1,
+            "material": materials.len() - 1, "mode": 4}]}));
+        nodes.push(json!({"name": g.name, "mesh": meshes.len() - 1}));
+    }
+    let document = json!({
+        "asset": {"version": "2.0", "generator": "orbifold", "extras": {"title": title, "coordinates":
+            "glTF is Y up: a room point (model x, model y, height h) is stored as (x, h, -y)"}},
+        "scene": 0,
+        "scenes": [{"name": title, "nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes, "meshes": meshes, "materials": materials,
+        "accessors": accessors, "bufferViews": views,
+        "buffers": [{"byteLength": bin.len()}],
+    });
+    glb_container(document.to_string().into_bytes(), bin)
+}
+
+/// The GLB container: a 12-byte header, the JSON chunk padded with spaces and the BIN chunk
+/// padded with zeros to 4 bytes.
+fn glb_container(mut json: Vec<u8>, mut bin: Vec<u8>) -> Vec<u8> {
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}

@@ -1,0 +1,373 @@
+//! The room of a scene as geometry: floor, ceiling, walls split into their mirrors and plain
+//! parts, and the objects, each an intrinsically flat triangle mesh in the room's plane
+//! (DESIGN.md §7) — what exports, the preview and the tracer's mesh path start from.
+
+use std::path::Path;
+
+use glam::DVec3;
+use num_complex::Complex64;
+use orbifold::Layout;
+use orbifold::cover::Tile;
+use orbifold::embed::{Placement, centre_of_mass, embed, place};
+use orbifold::room::wall::WallRect;
+use orbifold::room::{FloorMethod, RoomMesher, RoomOptions, Surface};
+
+use crate::document::{Color, Material, Mirror, MirrorDefault, Scene, Tessellation};
+use crate::mesh::TriangleMesh;
+use crate::mesh::import::load_mesh;
+use crate::mesh::procedural::builtin;
+
+/// What a part of the room is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PartKind {
+    /// The floor.
+    Floor,
+    /// The ceiling.
+    Ceiling,
+    /// The parts of a wall without a mirror.
+    Wall(usize),
+    /// Mirror `mirror` of wall `wall`.
+    Mirror {
+        /// The wall's index.
+        wall: usize,
+        /// The mirror's index on it.
+        mirror: usize,
+    },
+    /// Object `i` of the scene.
+    Object(usize),
+}
+
+/// One named part of the room's geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    /// `floor`, `ceiling`, `wall 0`, `mirror 0.1`, or an object's name.
+    pub name: String,
+    /// What it is.
+    pub kind: PartKind,
+    /// A representative colour (a checkerboard's mean, grey for a texture).
+    pub color: Color,
+    /// For a mirror, its reflectance.
+    pub reflectance: Option<Color>,
+    /// The mesh.
+    pub surface: Surface,
+}
+
+/// The meshed room.
+#[derive(Clone, Debug)]
+pub struct RoomGeometry {
+    /// The polygon.
+    pub layout: Layout,
+    /// The mesher, with the boundary that was meshed.
+    pub mesher: RoomMesher,
+    /// Floor, ceiling, wall and mirror parts, then objects.
+    pub parts: Vec<Part>,
+}
+
+/// A group of an exported mesh: a part (or all copies of a part) in output coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshGroup {
+    /// The group's name.
+    pub name: String,
+    /// Its colour.
+    pub color: Color,
+    /// Whether it is a mirror (exported as a shiny metal of this colour).
+    pub mirror: bool,
+    /// Vertex positions: model x, model y, height.
+    pub positions: Vec<[f64; 3]>,
+    /// Triangles, counter-clockwise seen from the front.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Model coordinates farther than this from the origin are left out of exports (on the sphere,
+/// the stereographic image of the antipode of the model's centre is at infinity).
+pub const FARTHEST_EXPORTED: f64 = 1e3;
+
+impl Scene {
+    /// The mirrors of wall `index`, as the file gives them or from the room's default.
+    pub fn wall_mirrors(&self, index: usize) -> Vec<Mirror> {
+        match self.walls.iter().find(|w| w.index == index) {
+            Some(wall) => wall.mirrors.clone(),
+            None => match self.room.mirrors {
+                MirrorDefault::All => vec![Mirror {
+                    reflectance: self.room.reflectance,
+                    ..Mirror::default()
+                }],
+                MirrorDefault::None => Vec::new(),
+            },
+        }
+    }
+
+    /// The material of wall `index` where it has no mirror.
+    pub fn wall_material(&self, index: usize) -> &Material {
+        self.walls
+            .iter()
+            .find(|w| w.index == index)
+            .and_then(|w| w.material.as_ref())
+            .unwrap_or(&self.room.wall_material)
+    }
+
+    /// The room mesher for this scene's layout and `[room]` settings.
+    pub fn room_mesher(&self, layout: &Layout) -> Result<RoomMesher, String> {
+        let options = RoomOptions {
+            height: self.room.height,
+            resolution: self.room.resolution,
+            method: match self.room.tessellation {
+                Tessellation::Contour => FloorMethod::Contour,
+                Tessellation::Geodesic => FloorMethod::Geodesic,
+            },
+            cusp_distance: self.room.cusp_distance,
+        };
+        RoomMesher::new(layout, &options).map_err(|e| e.to_string())
+    }
+
+    /// The object-space mesh of object `i`: its mesh file (relative to `base`) or built-in shape.
+    pub fn object_mesh(&self, i: usize, base: Option<&Path>) -> Result<TriangleMesh, String> {
+        let object = &self.objects[i];
+        match &object.mesh {
+            Some(file) => {
+                let path = base.map_or_else(|| Path::new(file).to_path_buf(), |b| b.join(file));
+                load_mesh(&path).map_err(|e| e.to_string())
+            }
+            None => builtin(&object.shape)
+                .ok_or_else(|| format!("objects[{i}]: unknown shape {:?}", object.shape)),
+        }
+    }
+
+    /// The name of object `i` in exports and reports.
+    pub fn object_name(&self, i: usize) -> String {
+        self.objects[i]
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("object {i}"))
+    }
+
+    /// Meshes the room and its objects. `base` resolves mesh file names.
+    ///
+    /// ```
+    /// use orbifold_scene::Scene;
+    /// let geometry = Scene::default().geometry(None)?;
+    /// let names: Vec<&str> = geometry.parts.iter().map(|p| p.name.as_str()).collect();
+    /// assert_eq!(names[..3], ["floor", "ceiling", "mirror 0.0"]);
+    /// assert_eq!(names.last(), Some(&"object 0"));
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn geometry(&self, base: Option<&Path>) -> Result<RoomGeometry, String> {
+        let layout = self.layout()?;
+        let mesher = self.room_mesher(&layout)?;
+        let floor = mesher.floor();
+        let mut ceiling = floor.clone();
+        ceiling
+            .heights
+            .iter_mut()
+            .for_each(|h| *h = self.room.height);
+        ceiling.flip();
+        let mut parts = vec![
+            Part {
+                name: "floor".into(),
+                kind: PartKind::Floor,
+                color: representative(&self.room.floor),
+                reflectance: None,
+                surface: floor,
+            },
+            Part {
+                name: "ceiling".into(),
+                kind: PartKind::Ceiling,
+                color: representative(&self.room.ceiling),
+                reflectance: None,
+                surface: ceiling,
+            },
+        ];
+        for wall in 0..layout.edges.len() {
+            parts.extend(self.wall_parts(&mesher, wall));
+        }
+        for i in 0..self.objects.len() {
+            parts.push(self.object_part(&layout, i, base)?);
+        }
+        Ok(RoomGeometry {
+            layout,
+            mesher,
+            parts,
+        })
+    }
+
+    /// A wall cut along every mirror's edges into a grid of cells; each cell is part of the first
+    /// mirror that covers it, or of the plain wall.
+    fn wall_parts(&self, mesher: &RoomMesher, wall: usize) -> Vec<Part> {
+        let height = self.room.height;
+        let mirrors = self.wall_mirrors(wall);
+        let cuts = |values: &mut Vec<f64>| {
+            values.sort_by(f64::total_cmp);
+            values.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+        };
+        let mut along = vec![0.0, 1.0];
+        let mut heights = vec![0.0, height];
+        for m in &mirrors {
+            along.extend([m.from, m.to]);
+            heights.extend([m.bottom, m.top.unwrap_or(height).min(height)]);
+        }
+        cuts(&mut along);
+        cuts(&mut heights);
+        let mut plain = Surface::default();
+        let mut glass = vec![Surface::default(); mirrors.len()];
+        for a in along.windows(2) {
+            for h in heights.windows(2) {
+                let (s, t) = (0.5 * (a[0] + a[1]), 0.5 * (h[0] + h[1]));
+                let rect = WallRect {
+                    along: [a[0], a[1]],
+                    heights: [h[0], h[1]],
+                };
+                let Some(cell) = mesher.wall(wall, rect) else {
+                    continue;
+                };
+                let covering = mirrors.iter().position(|m| {
+                    m.from <= s && s <= m.to && m.bottom <= t && t <= m.top.unwrap_or(height)
+                });
+                match covering {
+                    Some(j) => glass[j].append(&cell),
+                    None => plain.append(&cell),
+                }
+            }
+        }
+        let mut parts: Vec<Part> = glass
+            .into_iter()
+            .enumerate()
+            .filter(|(_, s)| !s.triangles.is_empty())
+            .map(|(j, surface)| Part {
+                name: format!("mirror {wall}.{j}"),
+                kind: PartKind::Mirror { wall, mirror: j },
+                color: mirrors[j].reflectance,
+                reflectance: Some(mirrors[j].reflectance),
+                surface,
+            })
+            .collect();
+        if !plain.triangles.is_empty() {
+            parts.push(Part {
+                name: format!("wall {wall}"),
+                kind: PartKind::Wall(wall),
+                color: representative(self.wall_material(wall)),
+                reflectance: None,
+                surface: plain,
+            });
+        }
+        parts
+    }
+
+    /// Object `i` embedded at its centre of mass, scaled to its size and placed.
+    fn object_part(&self, layout: &Layout, i: usize, base: Option<&Path>) -> Result<Part, String> {
+        let object = &self.objects[i];
+        let mesh = self.object_mesh(i, base)?;
+        let space = layout.space();
+        let (lo, hi) = mesh
+            .bounds()
+            .ok_or_else(|| format!("objects[{i}]: the mesh is empty"))?;
+        let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        if !(extent.is_finite() && extent > 0.0) {
+            return Err(format!("objects[{i}]: the mesh has no extent"));
+        }
+        let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
+        let embedded = embed(space, &mesh.positions, centre, object.size / extent);
+        let placement = Placement {
+            at: Complex64::new(object.at[0], object.at[1]),
+            height: object.height,
+            yaw: object.yaw.to_radians(),
+        };
+        let placed = place(space, &embedded, &placement);
+        Ok(Part {
+            name: self.object_name(i),
+            kind: PartKind::Object(i),
+            color: representative(&object.material),
+            reflectance: None,
+            surface: Surface {
+                points: placed.points,
+                heights: placed.heights,
+                triangles: mesh.triangles,
+            },
+        })
+    }
+}
+
+/// One colour that stands for a material in formats without textures.
+pub fn representative(material: &Material) -> Color {
+    match material {
+        Material::Color { color } => *color,
+        Material::Checker { colors, .. } => [0, 1, 2].map(|k| 0.5 * (colors[0][k] + colors[1][k])),
+        Material::Texture { .. } => [0.8; 3],
+    }
+}
+
+impl RoomGeometry {
+    /// The parts as export groups in model coordinates (x, y, height), followed — for each tile
+    /// of `copies` but the room itself — by the images of every part, gathered per part into
+    /// groups named `<part> copies`. Mirror images are turned inside out back again, so that
+    /// every triangle keeps facing the front. Returns the groups and the number of triangles left
+    /// out because a vertex is farther than [`FARTHEST_EXPORTED`] in the model.
+    pub fn groups(&self, copies: &[Tile]) -> (Vec<MeshGroup>, usize) {
+        let space = self.layout.space();
+        let mut omitted = 0;
+        let mut groups = Vec::with_capacity(self.parts.len() * 2);
+        for part in &self.parts {
+            let mut group = MeshGroup {
+                name: part.name.clone(),
+                color: part.color,
+                mirror: part.reflectance.is_some(),
+                positions: Vec::new(),
+                triangles: Vec::new(),
+            };
+            omitted += add_copy(&mut group, space, &part.surface, None);
+            groups.push(group);
+        }
+        let images = copies.iter().filter(|t| t.depth > 0);
+        if copies.iter().any(|t| t.depth > 0) {
+            let mut image_groups: Vec<MeshGroup> = groups
+                .iter()
+                .map(|g| MeshGroup {
+                    name: format!("{} copies", g.name),
+                    positions: Vec::new(),
+                    triangles: Vec::new(),
+                    ..g.clone()
+                })
+                .collect();
+            for tile in images {
+                for (part, group) in self.parts.iter().zip(&mut image_groups) {
+                    omitted += add_copy(group, space, &part.surface, Some(tile));
+                }
+            }
+            groups.extend(image_groups);
+        }
+        (groups, omitted)
+    }
+}
+
+/// Appends the image of `surface` under `tile` (or the surface itself) to `group` in model
+/// coordinates; returns how many triangles were left out for being too far out.
+fn add_copy(
+    group: &mut MeshGroup,
+    space: orbifold::space::Space,
+    surface: &Surface,
+    tile: Option<&Tile>,
+) -> usize {
+    let offset = group.positions.len() as u32;
+    let moved = |p: DVec3| tile.map_or(p, |t| t.matrix * p);
+    group
+        .positions
+        .extend(surface.points.iter().zip(&surface.heights).map(|(&p, &h)| {
+            let z = space.to_model(moved(p));
+            [z.re, z.im, h]
+        }));
+    let reflected = tile.is_some_and(|t| t.reflected);
+    let far = |i: u32| {
+        let p = group.positions[(offset + i) as usize];
+        let r = p[0].hypot(p[1]);
+        r.is_nan() || r > FARTHEST_EXPORTED
+    };
+    let mut omitted = 0;
+    for t in &surface.triangles {
+        if t.iter().any(|&i| far(i)) {
+            omitted += 1;
+            continue;
+        }
+        let t = if reflected { [t[0], t[2], t[1]] } else { *t };
+        group.triangles.push(t.map(|i| i + offset));
+    }
+    omitted
+}
