@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::boundary::Boundary;
-use super::surface::{Surface, angle};
+use super::surface::Surface;
 use crate::space::Space;
 
 /// A boundary sample: its ambient point, the side it starts on, and whether it is a corner.
@@ -86,11 +86,35 @@ pub fn contour(boundary: &Boundary, resolution: f64) -> Surface {
         .iter()
         .step_by(step)
         .map(|&start| contour_from(boundary, &samples, start, resolution))
-        .max_by(|a, b| {
-            let (qa, qb) = (a.quality(boundary.space), b.quality(boundary.space));
-            qa.smallest_angle.total_cmp(&qb.smallest_angle)
+        .map(|surface| {
+            let smallest = surface
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [p, q, r] = t.map(|i| surface.points[i as usize]);
+                    chord_smallest_angle(boundary.space, p, q, r)
+                })
+                .fold(f64::INFINITY, f64::min);
+            (surface, smallest)
         })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(surface, _)| surface)
         .unwrap_or_else(|| contour_from(boundary, &samples, 0, resolution))
+}
+
+/// A cheap measure of a small triangle's smallest angle: |det(p, q, r)| (twice its area, to
+/// first order, and exactly zero when the three points lie on one geodesic) over the product of
+/// its two longer chords — the sine of the smallest angle, to first order. Invariant under
+/// isometries; no transcendental functions.
+fn chord_smallest_angle(space: Space, p: DVec3, q: DVec3, r: DVec3) -> f64 {
+    let square = |d: DVec3| space.point_dot(d, d).max(0.0);
+    let mut sides = [square(q - r), square(r - p), square(p - q)];
+    sides.sort_by(f64::total_cmp);
+    let denominator = (sides[1] * sides[2]).sqrt();
+    if denominator == 0.0 {
+        return 0.0;
+    }
+    glam::DMat3::from_cols(p, q, r).determinant().abs() / denominator
 }
 
 /// `*`: every boundary sample lies on the one great circle.
@@ -167,9 +191,7 @@ fn zip(surface: &mut Surface, a: &[u32], b: &[u32], space: Space) {
     let fraction = |i: usize, chain: &[u32]| i as f64 / (chain.len() - 1).max(1) as f64;
     let smallest_angle = |s: &Surface, t: [u32; 3]| {
         let [p, q, r] = t.map(|i| s.points[i as usize]);
-        angle(space, p, q, r)
-            .min(angle(space, q, r, p))
-            .min(angle(space, r, p, q))
+        chord_smallest_angle(space, p, q, r)
     };
     while j + 1 < a.len() || k + 1 < b.len() {
         let along_a = [a[j], a[j + 1.min(a.len() - 1 - j)], b[k]];

@@ -101,7 +101,8 @@ impl Surface {
                 let to_j = self.tangent(space, i, j);
                 let to_l = self.tangent(space, i, l);
                 largest_edge = largest_edge.max(product_norm(space, to_j));
-                smallest_angle = smallest_angle.min(product_angle(space, to_j, to_l));
+                smallest_angle =
+                    smallest_angle.min(product_angle(space, self.points[i], to_j, to_l));
             }
         }
         Quality {
@@ -129,16 +130,19 @@ fn product_norm(space: Space, u: (DVec3, f64)) -> f64 {
     product_dot(space, u, u).max(0.0).sqrt()
 }
 
-fn product_angle(space: Space, u: (DVec3, f64), v: (DVec3, f64)) -> f64 {
-    let cos = product_dot(space, u, v) / (product_norm(space, u) * product_norm(space, v));
-    cos.clamp(-1.0, 1.0).acos()
+/// The angle between two tangent vectors of the product space at the point `at`, as
+/// atan2(|U ∧ V|, U·V): the wedge has the horizontal part det(p, u, v) and the mixed part
+/// u·h_V − v·h_U, so thin triangles keep their tiny angles (no acos of a number near 1).
+fn product_angle(space: Space, at: DVec3, u: (DVec3, f64), v: (DVec3, f64)) -> f64 {
+    let horizontal = DMat3::from_cols(at, u.0, v.0).determinant();
+    let mixed = u.0 * v.1 - v.0 * u.1;
+    let wedge = (horizontal * horizontal + space.point_dot(mixed, mixed).max(0.0)).sqrt();
+    wedge.atan2(product_dot(space, u, v))
 }
 
 /// The angle at ambient point `at` between the geodesics towards `a` and `b`, as
 /// atan2(|det(p, u, v)|, ⟨u, v⟩): for tangent vectors u, v at a point p of the model surface the
 /// determinant is |u||v| sin θ in all three geometries, so angles near 0 and π stay accurate.
 pub fn angle(space: Space, at: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let (u, v) = (space.log(at, a), space.log(at, b));
-    let sin = DMat3::from_cols(at, u, v).determinant().abs();
-    sin.atan2(space.point_dot(u, v))
+    product_angle(space, at, (space.log(at, a), 0.0), (space.log(at, b), 0.0))
 }
