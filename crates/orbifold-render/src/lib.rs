@@ -1,7 +1,10 @@
-//! Rendering: today the 2D pictures of the universal cover (`tiling`); the offline, physically
-//! based curved-ray tracer (exact geodesics of S²×R, E²×R and H²×R, analytic mirror rooms, a BVH
-//! for curved rays, light transport; DESIGN.md §8) comes with the tracing-core issues.
+//! Rendering of orbifold mirror rooms: the 2D pictures of the universal cover (`tiling`), and the
+//! curved-ray tracing core — exact geodesics of S²×R, E²×R and H²×R (`geodesic`), the analytic
+//! mirror room (`room`), intrinsically flat triangles (`triangle`), a BVH for curved rays (`bvh`),
+//! instanced objects (`instance`), and the tracer that follows rays through mirrors (`tracer`).
+//! See DESIGN.md §8.
 
+pub mod geodesic;
 pub mod tiling;
 
 pub use orbifold;

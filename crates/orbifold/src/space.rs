@@ -261,6 +261,63 @@ impl Space {
         2.0 * det.atan2(1.0 + c(p, q) + c(q, r) + c(r, p))
     }
 
+    /// The unit ambient tangent vector at the model point `z` that points in the model direction
+    /// `direction` (any nonzero complex number; the model is conformal, so bearings measured in
+    /// the model are true bearings).
+    ///
+    /// ```
+    /// use orbifold::space::Space;
+    /// use orbifold::Geometry;
+    /// use num_complex::Complex64;
+    /// let h = Space::new(Geometry::Hyperbolic);
+    /// let z = Complex64::new(0.3, 0.4);
+    /// let v = h.model_tangent(z, Complex64::new(0.0, 1.0));
+    /// let p = h.to_ambient(z);
+    /// assert!(h.point_dot(p, v).abs() < 1e-15 && (h.point_dot(v, v) - 1.0).abs() < 1e-15);
+    /// ```
+    pub fn model_tangent(&self, z: Complex64, direction: Complex64) -> DVec3 {
+        // The differential of z ↦ p = (2x, 2y, 1 − κ|z|²)/D with D = 1 + κ|z|².
+        let (x, y, k) = (z.re, z.im, self.kappa);
+        let d = 1.0 + k * z.norm_sqr();
+        let dx = DVec3::new(
+            2.0 / d - 4.0 * k * x * x / (d * d),
+            -4.0 * k * x * y / (d * d),
+            -4.0 * k * x / (d * d),
+        );
+        let dy = DVec3::new(
+            -4.0 * k * x * y / (d * d),
+            2.0 / d - 4.0 * k * y * y / (d * d),
+            -4.0 * k * y / (d * d),
+        );
+        let v = dx * direction.re + dy * direction.im;
+        v / self.point_dot(v, v).sqrt()
+    }
+
+    /// The tangent vector at `p` turned a quarter turn counter-clockwise (seen from above, the
+    /// model's orientation): J v = G(p × v) with G = diag(1, 1, κ), for every κ.
+    pub fn quarter_turn(&self, p: DVec3, v: DVec3) -> DVec3 {
+        let c = p.cross(v);
+        DVec3::new(c.x, c.y, self.kappa * c.z)
+    }
+
+    /// The reflection of an ambient point or tangent vector in a wall ν (normalised so that
+    /// ν₁² + ν₂² + κν₃² = 1): x ↦ x − 2(ν·x)·Gν. Linear, so it maps points, tangent vectors and
+    /// geodesics alike.
+    pub fn reflect(&self, nu: DVec3, x: DVec3) -> DVec3 {
+        x - 2.0 * nu.dot(x) * DVec3::new(nu.x, nu.y, self.kappa * nu.z)
+    }
+
+    /// Angle-like coordinate of a point `x` on the geodesic through `p` with unit tangent `t`:
+    /// the σ with x = C_κ(σ)·p + S_κ(σ)·t (for κ = +1 in (−π, π]).
+    pub fn geodesic_parameter(&self, p: DVec3, t: DVec3, x: DVec3) -> f64 {
+        let along = self.point_dot(x, t);
+        match self.kappa {
+            k if k > 0.0 => along.atan2(x.dot(p)),
+            k if k < 0.0 => along.asinh(),
+            _ => along - self.point_dot(p, t),
+        }
+    }
+
     /// The unit tangent direction, in model coordinates, of the geodesic from `z` towards `w`
     /// (towards an ideal point `w` too).
     pub fn direction(&self, z: Complex64, w: Complex64) -> Complex64 {

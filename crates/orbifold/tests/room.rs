@@ -33,10 +33,12 @@ fn check_floor(layout: &Layout, mesher: &RoomMesher, floor: &Surface, stretch: f
     for t in &floor.triangles {
         let [a, b, c] = t.map(|i| floor.points[i as usize]);
         let det = DMat3::from_cols(a, b, c).determinant();
-        // Far out on the hyperboloid the determinant rounds to about ε|p|³ (see below).
-        let rounding = 1e-15 * a.length().max(b.length()).max(c.length()).powi(3);
+        // The determinant of three vectors of length up to |p| rounds to about ε|p|³ (far out on
+        // the hyperboloid |p| ~ cosh of the distance): below that a sign is not a mesh defect.
+        let far = a.length().max(b.length()).max(c.length());
+        let rounding = 1e-15 * far.powi(3);
         assert!(
-            det > 0.0 || (det.abs() < rounding && a.length() > 100.0),
+            det > 0.0 || det.abs() < rounding,
             "{sig}: triangle {t:?} faces down or is degenerate ({det})"
         );
     }
