@@ -49,6 +49,94 @@ pub enum Command {
     /// glTF, optionally with every copy under the group up to a depth.
     #[command(after_help = ROOM_EXAMPLES)]
     Room(RoomArgs),
+    /// Follow one ray through a mirror room along the true geodesics of S²×R, E²×R or H²×R and
+    /// print every hit; or write the per-pixel geometry a camera sees (AOVs) as EXR.
+    #[command(after_help = TRACE_EXAMPLES)]
+    Trace(TraceArgs),
+}
+
+const TRACE_EXAMPLES: &str = "\
+Examples:
+  orbifold trace '*333' --from 0,0,0.5 --yaw 20 --pitch 10
+  orbifold trace '*2223' --from 0.1,0,0.5 --yaw 45 --pitch -5 --bounces 20 --json
+  orbifold trace examples/scenes/default.toml --from -0.2,0,0.5 --yaw 0 --pitch 0
+  orbifold trace examples/scenes/default.toml --aov aov.exr --size 320x240
+
+Rays are unit-speed geodesics: the height grows linearly with the intrinsic arc length s. Hits
+are listed in order: `wall I` (I is the edge index of `orbifold layout`), `floor`, `ceiling` or
+`object NAME`, whether it was a mirror, the model point x, y, the height h and the cumulative
+arc length s. A mirror reflects the ray (its horizontal direction across the wall; the
+elevation is kept); the ray ends at the first surface that is not a mirror, after --bounces
+reflections, or when it runs out through an ideal corner. With a bare signature the room is the
+default layout of `orbifold layout SIG`, every wall a full mirror.
+
+JSON: {\"hits\": [{\"surface\", \"mirror\", \"x\", \"y\", \"h\", \"s\", \"throughput\"}], \"end\"}.
+AOV channels: Z (geodesic depth), P.X P.Y P.Z (model x, y, height), N.X N.Y N.Z (normal in the
+local frame), id (0 floor, 1 ceiling, 2+i wall i, 1000+j object j, -1 none), bounces.";
+
+#[derive(Debug, Args)]
+pub struct TraceArgs {
+    /// A kaleidoscopic signature (every wall a full mirror), or a scene file (`.toml`).
+    #[arg(value_name = "SIG|SCENE")]
+    pub input: String,
+    /// Where the ray starts: model x, model y and height (default: the scene's camera).
+    #[arg(long, value_name = "X,Y,H", value_parser = parse_triple, allow_hyphen_values = true)]
+    pub from: Option<[f64; 3]>,
+    /// Bearing in degrees, counter-clockwise from the model's +x direction (default: the camera's).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub yaw: Option<f64>,
+    /// Elevation in degrees, positive upwards (default: the camera's).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub pitch: Option<f64>,
+    /// The most mirror reflections to follow.
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub bounces: usize,
+    /// The room's height (default: the scene's, 1).
+    #[arg(long, value_name = "H")]
+    pub height: Option<f64>,
+    /// Print the hits as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Instead of one ray, write the AOVs of the scene's camera (moved by --from, --yaw, --pitch)
+    /// to this EXR file.
+    #[arg(long, value_name = "FILE.exr")]
+    pub aov: Option<std::path::PathBuf>,
+    /// The AOV image size.
+    #[arg(long, value_name = "WxH", default_value = "640x480", value_parser = parse_size)]
+    pub size: (u32, u32),
+}
+
+/// `x,y,h` as three finite numbers.
+fn parse_triple(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three numbers x,y,h, not {text:?}"));
+    }
+    let mut out = [0.0; 3];
+    for (k, part) in parts.iter().enumerate() {
+        let v: f64 = part
+            .parse()
+            .map_err(|_| format!("{part:?} (number {} of {text:?}) is not a number", k + 1))?;
+        if !v.is_finite() {
+            return Err(format!("{part:?} is not a finite number"));
+        }
+        out[k] = v;
+    }
+    Ok(out)
+}
+
+/// `WxH` with both between 1 and 16384.
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT such as 640x480, not {text:?}"))?;
+    let parse = |v: &str| -> Result<u32, String> {
+        match v.trim().parse::<u32>() {
+            Ok(n) if (1..=16384).contains(&n) => Ok(n),
+            _ => Err(format!("{v:?} in {text:?} is not a size between 1 and 16384")),
+        }
+    };
+    Ok((parse(w)?, parse(h)?))
 }
 
 const ROOM_EXAMPLES: &str = "\

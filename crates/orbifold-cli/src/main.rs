@@ -25,6 +25,7 @@ fn main() -> ExitCode {
         Command::Tiling(args) => commands::tiling::run(&args),
         Command::Scene(command) => commands::scene::run(&command),
         Command::Room(args) => commands::room::run(&args),
+        Command::Trace(args) => commands::trace::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,7 +4,9 @@
 //! instanced objects (`instance`), and the tracer that follows rays through mirrors (`tracer`).
 //! See DESIGN.md §8.
 
+pub mod camera;
 pub mod geodesic;
+pub mod room;
 pub mod tiling;
 
 pub use orbifold;

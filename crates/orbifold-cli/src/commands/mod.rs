@@ -7,3 +7,4 @@ pub mod layout;
 pub mod room;
 pub mod scene;
 pub mod tiling;
+pub mod trace;

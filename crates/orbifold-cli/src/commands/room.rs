@@ -112,7 +112,7 @@ fn write_picture(geometry: &RoomGeometry, path: &Path) -> std::io::Result<Vec<st
 
 /// The scene of a `.toml` file (and its directory, for relative paths) or of a bare signature
 /// (scene defaults, no objects).
-fn load(input: &str) -> Result<(Scene, Option<std::path::PathBuf>), CliError> {
+pub(crate) fn load(input: &str) -> Result<(Scene, Option<std::path::PathBuf>), CliError> {
     let path = Path::new(input);
     if input.ends_with(".toml") || path.is_file() {
         let scene = Scene::load(path).map_err(|errors| {

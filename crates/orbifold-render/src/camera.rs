@@ -1,0 +1,122 @@
+//! Cameras in the tangent space at the eye (DESIGN.md §8): a pinhole camera and an
+//! equirectangular panorama.
+//!
+//! The eye's orthonormal frame is (model +x, model +y, up); the model is conformal, so these
+//! are true directions. Pinhole: pixel (i, j) of a W×H image looks along
+//! normalise(forward + a·right + b·up) with a = (2(i+½)/W − 1)·tan(φ/2)·W/H,
+//! b = (1 − 2(j+½)/H)·tan(φ/2), forward = (cos pitch cos yaw, cos pitch sin yaw, sin pitch),
+//! right = normalise(forward × up_world), up = right × forward. Panorama: column i is the bearing
+//! yaw + π − 2π(i+½)/W (so the middle column looks along `yaw`, left to right turning clockwise
+//! as in a photograph), row j the elevation π/2 − π(j+½)/H.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+use num_complex::Complex64;
+use orbifold::space::Space;
+use orbifold_scene::{Camera as CameraSettings, CameraKind};
+
+use crate::geodesic::Ray;
+
+/// A camera placed in a plane of curvature κ.
+///
+/// ```
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::camera::Camera;
+/// use orbifold_scene::Camera as Settings;
+/// let camera = Camera::new(Space::new(Geometry::Hyperbolic), &Settings::default());
+/// // The centre of an odd-sized image looks straight ahead (yaw 0, pitch 0).
+/// let ray = camera.ray(1, 1, 3, 3, (0.5, 0.5));
+/// assert!(ray.sin_elevation.abs() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    space: Space,
+    eye: DVec3,
+    height: f64,
+    /// Unit ambient tangents of the model's +x and +y at the eye.
+    frame: [DVec3; 2],
+    kind: CameraKind,
+    yaw: f64,
+    forward: DVec3,
+    right: DVec3,
+    up: DVec3,
+    tan_half_fov: f64,
+}
+
+impl Camera {
+    /// The camera of a scene's `[camera]` settings (angles in degrees).
+    pub fn new(space: Space, settings: &CameraSettings) -> Camera {
+        let z = Complex64::new(settings.at[0], settings.at[1]);
+        let (yaw, pitch) = (settings.yaw.to_radians(), settings.pitch.to_radians());
+        let forward = DVec3::new(
+            pitch.cos() * yaw.cos(),
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+        );
+        // Straight up or down, the right vector is the one of the yaw alone.
+        let right = forward
+            .cross(DVec3::Z)
+            .try_normalize()
+            .unwrap_or(DVec3::new(yaw.sin(), -yaw.cos(), 0.0));
+        let up = right.cross(forward);
+        Camera {
+            space,
+            eye: space.to_ambient(z),
+            height: settings.height,
+            frame: [
+                space.model_tangent(z, Complex64::new(1.0, 0.0)),
+                space.model_tangent(z, Complex64::new(0.0, 1.0)),
+            ],
+            kind: settings.kind,
+            yaw,
+            forward,
+            right,
+            up,
+            tan_half_fov: (0.5 * settings.fov.to_radians()).tan(),
+        }
+    }
+
+    /// The ray through the point (i + dx, j + dy) of a `width`×`height` image, with (dx, dy) in
+    /// [0, 1)² (½, ½ for the pixel's centre).
+    pub fn ray(&self, i: u32, j: u32, width: u32, height: u32, offset: (f64, f64)) -> Ray {
+        let (u, v) = (
+            (f64::from(i) + offset.0) / f64::from(width),
+            (f64::from(j) + offset.1) / f64::from(height),
+        );
+        let local = match self.kind {
+            CameraKind::Pinhole => {
+                let aspect = f64::from(width) / f64::from(height);
+                let a = (2.0 * u - 1.0) * self.tan_half_fov * aspect;
+                let b = (1.0 - 2.0 * v) * self.tan_half_fov;
+                (self.forward + a * self.right + b * self.up).normalize()
+            }
+            CameraKind::Panorama => {
+                let bearing = self.yaw + PI - 2.0 * PI * u;
+                let elevation = 0.5 * PI - PI * v;
+                DVec3::new(
+                    elevation.cos() * bearing.cos(),
+                    elevation.cos() * bearing.sin(),
+                    elevation.sin(),
+                )
+            }
+        };
+        self.ray_along(local)
+    }
+
+    /// The ray from the eye along a direction of the local frame (model +x, model +y, up).
+    pub fn ray_along(&self, local: DVec3) -> Ray {
+        let horizontal = self.frame[0] * local.x + self.frame[1] * local.y;
+        let elevation = local.z.atan2(local.x.hypot(local.y));
+        if local.x.hypot(local.y) == 0.0 {
+            // Straight up or down: any horizontal direction will do.
+            return Ray::new(self.space, self.eye, self.frame[0], self.height, elevation);
+        }
+        Ray::new(self.space, self.eye, horizontal, self.height, elevation)
+    }
+
+    /// The eye's ambient position and height.
+    pub fn eye(&self) -> (DVec3, f64) {
+        (self.eye, self.height)
+    }
+}

@@ -1,0 +1,265 @@
+//! The analytic mirror room (seed 8.2): the prism polygon × [0, height] whose walls, floor and
+//! ceiling are intersected in closed form, never meshed.
+//!
+//! A ray from inside leaves the (convex) prism through exactly one face. Each wall is the zero
+//! set of a linear form ν, so along the ray's horizontal geodesic ν·x(σ) = C(σ)(ν·p) + S(σ)(ν·u)
+//! and the crossing is one `atan2`, division or `atanh` ([`line_crossing`]); floor and ceiling are
+//! linear in the arc length. Partial mirrors are looked up by the hit's arc length along its
+//! wall (as a fraction of the wall's meshed length, so that exports, the preview and the tracer
+//! agree) and its height.
+
+use glam::DVec3;
+use orbifold::Layout;
+use orbifold::room::RoomMesher;
+use orbifold::space::Space;
+use orbifold_scene::{Color, Scene};
+
+use crate::geodesic::{Ray, line_crossing};
+
+/// A rectangular mirror on a wall: fractions of the wall's length × heights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MirrorRect {
+    /// Where it starts along the wall (fraction of the length).
+    pub from: f64,
+    /// Where it ends along the wall.
+    pub to: f64,
+    /// Lower edge height.
+    pub bottom: f64,
+    /// Upper edge height.
+    pub top: f64,
+    /// Reflectance per channel.
+    pub reflectance: Color,
+}
+
+impl MirrorRect {
+    /// Whether the wall point at fraction `along` and height `height` is on this mirror.
+    pub fn covers(&self, along: f64, height: f64) -> bool {
+        self.from <= along && along <= self.to && self.bottom <= height && height <= self.top
+    }
+}
+
+/// One wall of the analytic room.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoomWall {
+    /// The wall's linear form, positive inside, normalised (ν₁² + ν₂² + κν₃² = 1).
+    pub form: DVec3,
+    /// Where its arc length starts (its first corner, or the cusp cut for an ideal one).
+    pub start: DVec3,
+    /// Unit tangent at `start`, pointing along the wall (counter-clockwise around the room).
+    pub tangent: DVec3,
+    /// Its meshed intrinsic length (to the cusp cuts for ideal ends), the unit of mirror
+    /// fractions.
+    pub length: f64,
+    /// Whether the wall is a closed great circle (the single wall of `*`).
+    pub closed: bool,
+    /// Its mirrors; the first that covers a point wins.
+    pub mirrors: Vec<MirrorRect>,
+}
+
+/// What part of the room a ray met.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RoomSurface {
+    /// The floor, height 0.
+    Floor,
+    /// The ceiling.
+    Ceiling,
+    /// Wall `i` (the edge index of the layout).
+    Wall(usize),
+}
+
+/// Where a ray leaves the room.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoomHit {
+    /// Arc length from the ray's origin.
+    pub s: f64,
+    /// The face.
+    pub surface: RoomSurface,
+    /// Ambient horizontal position.
+    pub point: DVec3,
+    /// Height.
+    pub height: f64,
+}
+
+/// The prism over a laid-out polygon, with its mirrors.
+///
+/// ```
+/// use orbifold::{Layout, LayoutOptions};
+/// use orbifold_render::geodesic::Ray;
+/// use orbifold_render::room::{AnalyticRoom, RoomSurface};
+/// use num_complex::Complex64;
+/// let layout = Layout::new(&"*333".parse()?, &LayoutOptions::default())?;
+/// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])?;
+/// let ray = Ray::from_model(layout.space(), Complex64::new(0.0, 0.0), 0.5, 0.0, 0.0);
+/// let hit = room.exit(&ray).unwrap();
+/// assert!(matches!(hit.surface, RoomSurface::Wall(_)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnalyticRoom {
+    /// The plane.
+    pub space: Space,
+    /// The height of the ceiling.
+    pub height: f64,
+    /// The walls, in the layout's edge order.
+    pub walls: Vec<RoomWall>,
+}
+
+impl AnalyticRoom {
+    /// The room of a layout with the given mirrors per wall (`mirrors[i]` for wall `i`, missing
+    /// entries meaning no mirror). Ideal walls are measured to the default cusp cut.
+    pub fn new(
+        layout: &Layout,
+        height: f64,
+        cusp_distance: Option<f64>,
+        mirrors: &[Vec<MirrorRect>],
+    ) -> Result<AnalyticRoom, String> {
+        if !(height.is_finite() && height > 0.0) {
+            return Err(format!("the room's height must be positive, not {height}"));
+        }
+        let options = orbifold::room::RoomOptions {
+            height,
+            resolution: 1.0,
+            cusp_distance,
+            ..Default::default()
+        };
+        let mesher = RoomMesher::new(layout, &options).map_err(|e| e.to_string())?;
+        let space = layout.space();
+        let closed = layout.vertices.is_empty();
+        let walls = layout
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(i, edge)| {
+                let start = mesher
+                    .wall_point(i, 0.0)
+                    .ok_or_else(|| format!("wall {i} has no points"))?;
+                let length = mesher.wall_length(i).unwrap_or(0.0);
+                // The inner normal Gν is the left of the direction of travel: t = −J(Gν).
+                let normal = DVec3::new(edge.wall.x, edge.wall.y, space.kappa() * edge.wall.z);
+                let tangent = -space.quarter_turn(start, normal);
+                Ok(RoomWall {
+                    form: edge.wall,
+                    start,
+                    tangent: tangent / space.point_dot(tangent, tangent).sqrt(),
+                    length,
+                    closed,
+                    mirrors: mirrors.get(i).cloned().unwrap_or_default(),
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(AnalyticRoom {
+            space,
+            height,
+            walls,
+        })
+    }
+
+    /// The room with every wall a full mirror of the given reflectance (what `orbifold trace
+    /// SIG` uses).
+    pub fn all_mirrors(
+        layout: &Layout,
+        height: f64,
+        reflectance: Color,
+    ) -> Result<AnalyticRoom, String> {
+        let full = MirrorRect {
+            from: 0.0,
+            to: 1.0,
+            bottom: 0.0,
+            top: height,
+            reflectance,
+        };
+        AnalyticRoom::new(layout, height, None, &vec![vec![full]; layout.edges.len()])
+    }
+
+    /// The room of a scene: its layout, height, cusp cut and the mirrors of every wall.
+    pub fn from_scene(scene: &Scene, layout: &Layout) -> Result<AnalyticRoom, String> {
+        let height = scene.room.height;
+        let mirrors: Vec<Vec<MirrorRect>> = (0..layout.edges.len())
+            .map(|i| {
+                scene
+                    .wall_mirrors(i)
+                    .iter()
+                    .map(|m| MirrorRect {
+                        from: m.from,
+                        to: m.to,
+                        bottom: m.bottom,
+                        top: m.top.unwrap_or(height).min(height),
+                        reflectance: m.reflectance,
+                    })
+                    .collect()
+            })
+            .collect();
+        AnalyticRoom::new(layout, height, scene.room.cusp_distance, &mirrors)
+    }
+
+    /// Where a ray from inside the room leaves it: the nearest of the floor, the ceiling and the
+    /// walls. `None` when it never does (a horizontal ray running out through an ideal corner).
+    pub fn exit(&self, ray: &Ray) -> Option<RoomHit> {
+        let space = self.space;
+        let mut best: Option<(f64, RoomSurface)> = None;
+        if ray.sin_elevation > 0.0 {
+            let s = ((self.height - ray.height) / ray.sin_elevation).max(0.0);
+            best = Some((s, RoomSurface::Ceiling));
+        } else if ray.sin_elevation < 0.0 {
+            let s = (-ray.height / ray.sin_elevation).max(0.0);
+            best = Some((s, RoomSurface::Floor));
+        }
+        if ray.cos_elevation > 0.0 {
+            for (i, wall) in self.walls.iter().enumerate() {
+                let a = wall.form.dot(ray.origin);
+                let b = wall.form.dot(ray.direction);
+                let Some(sigma) = line_crossing(space, a, b) else {
+                    continue;
+                };
+                let s = sigma / ray.cos_elevation;
+                if best.is_none_or(|(t, _)| s < t) {
+                    best = Some((s, RoomSurface::Wall(i)));
+                }
+            }
+        }
+        let (s, surface) = best?;
+        let (point, height) = ray.point_at(space, s);
+        let height = match surface {
+            RoomSurface::Floor => 0.0,
+            RoomSurface::Ceiling => self.height,
+            RoomSurface::Wall(_) => height.clamp(0.0, self.height),
+        };
+        Some(RoomHit {
+            s,
+            surface,
+            point,
+            height,
+        })
+    }
+
+    /// The fraction of wall `wall`'s length at which the wall point `point` lies.
+    pub fn along(&self, wall: usize, point: DVec3) -> f64 {
+        let w = &self.walls[wall];
+        let mut s = self.space.geodesic_parameter(w.start, w.tangent, point);
+        if w.closed && s < 0.0 {
+            s += std::f64::consts::TAU;
+        }
+        if w.length > 0.0 { s / w.length } else { 0.0 }
+    }
+
+    /// The mirror of wall `wall` at a point on it, if any.
+    pub fn mirror_at(
+        &self,
+        wall: usize,
+        point: DVec3,
+        height: f64,
+    ) -> Option<(usize, &MirrorRect)> {
+        let along = self.along(wall, point).clamp(0.0, 1.0);
+        self.walls[wall]
+            .mirrors
+            .iter()
+            .enumerate()
+            .find(|(_, m)| m.covers(along, height))
+    }
+
+    /// Whether a point is inside the room (to `tolerance` in the walls' linear forms).
+    pub fn contains(&self, point: DVec3, height: f64, tolerance: f64) -> bool {
+        (-tolerance..=self.height + tolerance).contains(&height)
+            && self.walls.iter().all(|w| w.form.dot(point) >= -tolerance)
+    }
+}
