@@ -133,7 +133,9 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let parse = |v: &str| -> Result<u32, String> {
         match v.trim().parse::<u32>() {
             Ok(n) if (1..=16384).contains(&n) => Ok(n),
-            _ => Err(format!("{v:?} in {text:?} is not a size between 1 and 16384")),
+            _ => Err(format!(
+                "{v:?} in {text:?} is not a size between 1 and 16384"
+            )),
         }
     };
     Ok((parse(w)?, parse(h)?))

@@ -16,6 +16,7 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::tracer::{PathEnd, SurfaceId, Tracer};
+use crate::triangle::TriangleHit;
 
 /// The AOVs of one image, row-major from the top-left pixel.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,10 +60,12 @@ pub struct PixelAov {
 /// use orbifold_scene::Camera as Settings;
 /// let layout = Layout::new(&"*333".parse()?, &LayoutOptions::default())?;
 /// let tracer = Tracer::mirror_room(layout, 1.0)?;
-/// let camera = Camera::new(tracer.space(), &Settings { at: [0.0, 0.0], ..Settings::default() });
-/// let aovs = aov::render(&tracer, &camera, 8, 6, 20);
-/// // Looking level with full mirrors all round, the middle rows bounce until the limit.
-/// assert_eq!(aovs.surface[3 * 8 + 4], -1);
+/// let camera = Camera::new(tracer.space(), &Settings { at: [0.0, 0.0], pitch: 0.0, ..Settings::default() });
+/// let aovs = aov::render(&tracer, &camera, 9, 7, 20);
+/// // The middle pixel looks level: with full mirrors all round it bounces until the limit.
+/// assert_eq!((aovs.surface[3 * 9 + 4], aovs.bounces[3 * 9 + 4]), (-1, 20));
+/// // The top row sees the ceiling (code 1), perhaps through mirrors.
+/// assert_eq!(aovs.surface[4], 1);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn render(tracer: &Tracer, camera: &Camera, width: u32, height: u32, bounces: usize) -> Aovs {
@@ -77,7 +80,10 @@ pub fn render(tracer: &Tracer, camera: &Camera, width: u32, height: u32, bounces
         width,
         height,
         depth: pixels.iter().map(|p| p.depth as f32).collect(),
-        position: pixels.iter().map(|p| p.position.map(|v| v as f32)).collect(),
+        position: pixels
+            .iter()
+            .map(|p| p.position.map(|v| v as f32))
+            .collect(),
         normal: pixels.iter().map(|p| p.normal.map(|v| v as f32)).collect(),
         surface: pixels.iter().map(|p| p.surface).collect(),
         bounces: pixels.iter().map(|p| p.bounces).collect(),
@@ -121,11 +127,24 @@ pub fn pixel(tracer: &Tracer, ray: &crate::geodesic::Ray, bounces: usize) -> Pix
         }
         SurfaceId::Object(i) => {
             let (triangle, barycentric) = hit.triangle.unwrap_or((0, [1.0 / 3.0; 3]));
-            let (horizontal, vertical) =
-                tracer
-                    .objects
-                    .normal(space, i, triangle, barycentric, &path.last_ray, hit.s);
-            local(horizontal, vertical)
+            let at = TriangleHit {
+                s: hit.s,
+                triangle,
+                barycentric,
+            };
+            match tracer.objects.instances()[i].normal(space, &at) {
+                Some((horizontal, vertical)) => {
+                    // Face the ray: the normal's side is the mesh's winding, which imported
+                    // meshes do not always keep.
+                    let ray = &path.last_ray;
+                    let along = ray.tangent_at(space, hit.s * ray.cos_elevation);
+                    let facing = space.point_dot(horizontal, along) * ray.cos_elevation
+                        + vertical * ray.sin_elevation;
+                    let sign = if facing > 0.0 { -1.0 } else { 1.0 };
+                    local(horizontal * sign, vertical * sign)
+                }
+                None => [0.0; 3],
+            }
         }
     };
     PixelAov {
@@ -143,7 +162,8 @@ impl Aovs {
     pub fn to_exr(&self) -> Result<Vec<u8>, String> {
         use exr::prelude::*;
         let size = (self.width as usize, self.height as usize);
-        let channel = |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
+        let channel =
+            |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
         let component = |v: &[[f32; 3]], k: usize| v.iter().map(|p| p[k]).collect::<Vec<f32>>();
         let channels = vec![
             channel("Z", self.depth.clone()),

@@ -24,10 +24,11 @@ use crate::geodesic::Ray;
 /// use orbifold::{Geometry, space::Space};
 /// use orbifold_render::camera::Camera;
 /// use orbifold_scene::Camera as Settings;
-/// let camera = Camera::new(Space::new(Geometry::Hyperbolic), &Settings::default());
-/// // The centre of an odd-sized image looks straight ahead (yaw 0, pitch 0).
+/// let settings = Settings { pitch: -20.0, ..Settings::default() };
+/// let camera = Camera::new(Space::new(Geometry::Hyperbolic), &settings);
+/// // The centre of an odd-sized image looks straight ahead (here 20° down).
 /// let ray = camera.ray(1, 1, 3, 3, (0.5, 0.5));
-/// assert!(ray.sin_elevation.abs() < 1e-15);
+/// assert!((ray.sin_elevation - (-20f64).to_radians().sin()).abs() < 1e-15);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {

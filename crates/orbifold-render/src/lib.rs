@@ -9,5 +9,11 @@ pub mod geodesic;
 pub mod room;
 pub mod tiling;
 
+pub mod aov;
+pub mod bvh;
+pub mod instance;
+pub mod tracer;
+pub mod triangle;
+
 pub use orbifold;
 pub use orbifold_scene;

@@ -171,11 +171,7 @@ impl Tracer {
                 height: object.height,
                 yaw: object.yaw.to_radians(),
             };
-            instances.push(Instance::new(
-                Arc::new(bvh),
-                placement.isometry(space),
-                placement.height,
-            ));
+            instances.push(Instance::from_placement(space, Arc::new(bvh), &placement));
             object_names.push(object.name.clone().unwrap_or_else(|| i.to_string()));
         }
         Ok(Tracer {

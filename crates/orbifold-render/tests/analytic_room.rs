@@ -39,7 +39,11 @@ fn inside(layout: &Layout, t: f64, k: usize) -> Complex64 {
         Complex64::new(1.0, 0.0)
     } else {
         let v = layout.vertices[k % layout.vertices.len()].position;
-        if layout.vertices[k % layout.vertices.len()].ideal { v * 0.9 } else { v }
+        if layout.vertices[k % layout.vertices.len()].ideal {
+            v * 0.9
+        } else {
+            v
+        }
     };
     layout.centre + (target - layout.centre) * t
 }

@@ -350,7 +350,8 @@ impl Default for Camera {
             at: [-0.2, 0.0],
             height: 0.5,
             yaw: 0.0,
-            pitch: 0.0,
+            // Looking a little down, at the figure in the middle of the default room.
+            pitch: -20.0,
             fov: 70.0,
         }
     }

@@ -146,7 +146,7 @@ fn check_inside(tracer: &Tracer, scene: &Scene) -> Result<(), CliError> {
     let space = tracer.space();
     let [x, y] = scene.camera.at;
     let p = space.to_ambient(Complex64::new(x, y));
-    if !(x.is_finite() && y.is_finite()) || !tracer.room.contains(p, scene.camera.height, 1e-12) {
+    if !(x.is_finite() && y.is_finite() && tracer.room.contains(p, scene.camera.height, 1e-12)) {
         return Err(CliError::Input(format!(
             "the start ({x}, {y}) at height {} is not inside the room of {} (the polygon of \
              `orbifold layout`, heights 0 to {})",
@@ -174,7 +174,9 @@ fn write_aovs(
     let camera = Camera::new(tracer.space(), &scene.camera);
     let (w, h) = args.size;
     let aovs = aov::render(tracer, &camera, w, h, args.bounces);
-    let bytes = aovs.to_exr().map_err(|e| CliError::Io(std::io::Error::other(e)))?;
+    let bytes = aovs
+        .to_exr()
+        .map_err(|e| CliError::Io(std::io::Error::other(e)))?;
     output::write_atomic(path, &bytes)?;
     let hit = aovs.surface.iter().filter(|&&s| s >= 0).count();
     let mut out = output::stdout();
