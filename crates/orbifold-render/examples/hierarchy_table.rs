@@ -3,6 +3,8 @@
 //!
 //! ```sh
 //! cargo run --release -p orbifold-render --example hierarchy_table
+//! # one model, without the room table:
+//! cargo run --release -p orbifold-render --example hierarchy_table -- buddha.obj --no-room
 //! ```
 //!
 //! Table 8.2: for each model of `../shared/models/` that is present, embedded 1 unit across at
@@ -66,7 +68,7 @@ fn measure(space: Space, mesh: &orbifold_scene::mesh::TriangleMesh) -> Measured 
     }
 }
 
-fn hierarchy_table() {
+fn hierarchy_table(only: &[String]) {
     let Some(dir) = table_rays::models_dir() else {
         println!("(no ../shared/models: Table 8.2 skipped)");
         return;
@@ -77,6 +79,9 @@ fn hierarchy_table() {
     );
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|");
     for name in table_rays::MODELS {
+        if !only.is_empty() && !only.iter().any(|o| o == name) {
+            continue;
+        }
         let Some(mesh) = table_rays::load(name) else {
             println!("| {name} | missing | | | | | | | | |");
             continue;
@@ -166,7 +171,16 @@ fn room_table() {
     }
 }
 
+/// Arguments: model file names to measure (all by default); `--no-room` skips Table 8.1.
 fn main() {
-    hierarchy_table();
-    room_table();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let models: Vec<String> = args
+        .iter()
+        .filter(|a| !a.starts_with("--"))
+        .cloned()
+        .collect();
+    hierarchy_table(&models);
+    if !args.iter().any(|a| a == "--no-room") {
+        room_table();
+    }
 }

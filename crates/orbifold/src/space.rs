@@ -55,6 +55,7 @@ impl Space {
     }
 
     /// The curvature κ.
+    #[inline]
     pub fn kappa(&self) -> f64 {
         self.kappa
     }
@@ -69,6 +70,7 @@ impl Space {
     }
 
     /// C_κ(s): cos s, 1, cosh s.
+    #[inline]
     pub fn cos(&self, s: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => s.cos(),
@@ -78,6 +80,7 @@ impl Space {
     }
 
     /// S_κ(s): sin s, s, sinh s.
+    #[inline]
     pub fn sin(&self, s: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => s.sin(),
@@ -87,6 +90,7 @@ impl Space {
     }
 
     /// T_κ(s): tan s, s, tanh s.
+    #[inline]
     pub fn tan(&self, s: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => s.tan(),
@@ -96,6 +100,7 @@ impl Space {
     }
 
     /// The inverse of T_κ: atan, identity, artanh.
+    #[inline]
     pub fn atan(&self, x: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => x.atan(),
@@ -105,6 +110,7 @@ impl Space {
     }
 
     /// The inverse of S_κ: asin, identity, arsinh.
+    #[inline]
     pub fn asin(&self, x: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => x.clamp(-1.0, 1.0).asin(),
@@ -114,11 +120,13 @@ impl Space {
     }
 
     /// The conformal factor λ(z) = 2/(1 + κ|z|²).
+    #[inline]
     pub fn conformal_factor(&self, z: Complex64) -> f64 {
         2.0 / (1.0 + self.kappa * z.norm_sqr())
     }
 
     /// Ambient coordinates of a model point.
+    #[inline]
     pub fn to_ambient(&self, z: Complex64) -> DVec3 {
         let r2 = z.norm_sqr();
         let d = 1.0 + self.kappa * r2;
@@ -127,6 +135,7 @@ impl Space {
 
     /// Model coordinates of an ambient point: z = (p₁ + i p₂)/(1 + p₃). For a null direction of
     /// the hyperboloid (an ideal point) pass [`Space::ideal_to_model`] instead.
+    #[inline]
     pub fn to_model(&self, p: DVec3) -> Complex64 {
         Complex64::new(p.x, p.y) / (1.0 + p.z)
     }
@@ -139,6 +148,7 @@ impl Space {
 
     /// The bilinear form on ambient points: p₁q₁ + p₂q₂ + κp₃q₃ (the dot product on the sphere,
     /// the Minkowski form on the hyperboloid).
+    #[inline]
     pub fn point_dot(&self, p: DVec3, q: DVec3) -> f64 {
         p.x * q.x + p.y * q.y + self.kappa * p.z * q.z
     }
@@ -146,11 +156,13 @@ impl Space {
     /// The dual form on walls (linear forms): ν₁μ₁ + ν₂μ₂ + κν₃μ₃. For two walls with inner
     /// normals that meet, the inner angle α between them has cos α = −dual_dot(ν, μ); for
     /// ultraparallel hyperbolic walls −dual_dot = cosh(distance).
+    #[inline]
     pub fn wall_dot(&self, nu: DVec3, mu: DVec3) -> f64 {
         nu.x * mu.x + nu.y * mu.y + self.kappa * nu.z * mu.z
     }
 
     /// Scales a linear form so that ν₁² + ν₂² + κν₃² = 1.
+    #[inline]
     pub fn normalize_wall(&self, nu: DVec3) -> DVec3 {
         nu / self.wall_dot(nu, nu).sqrt()
     }
@@ -191,6 +203,7 @@ impl Space {
     /// the hyperboloid (for a future-pointing timelike vector), p/p₃ in the plane w = 1. This is
     /// the central projection that makes straight segments of ℝ³ into geodesics, so that
     /// `normalize_point(Σ wᵢ pᵢ)` is an intrinsically flat triangle (DESIGN.md §7).
+    #[inline]
     pub fn normalize_point(&self, p: DVec3) -> DVec3 {
         if self.kappa == 0.0 {
             p / p.z
@@ -211,6 +224,7 @@ impl Space {
     /// let d = s.ambient_distance(s.to_ambient(z), s.to_ambient(w));
     /// assert!((d - s.distance(z, w)).abs() < 1e-14);
     /// ```
+    #[inline]
     pub fn ambient_distance(&self, p: DVec3, q: DVec3) -> f64 {
         let d = p - q;
         let chord = self.point_dot(d, d).max(0.0).sqrt();
@@ -220,6 +234,7 @@ impl Space {
     /// The point at fraction `t` of the intrinsic length along the geodesic from `p` to `q`:
     /// (S_κ((1 − t)d)·p + S_κ(t d)·q)/S_κ(d). A linear combination of `p` and `q`, so it lies
     /// exactly on every wall through both. `p` and `q` must not be antipodal.
+    #[inline]
     pub fn interpolate(&self, p: DVec3, q: DVec3, t: f64) -> DVec3 {
         let d = self.ambient_distance(p, q);
         let s = self.sin(d);
@@ -232,6 +247,7 @@ impl Space {
     /// The tangent vector at `p` of the geodesic towards `q`, with length the distance from `p`
     /// to `q` (zero when they coincide). Its inner product with another such vector is
     /// [`Space::point_dot`].
+    #[inline]
     pub fn log(&self, p: DVec3, q: DVec3) -> DVec3 {
         let d = self.ambient_distance(p, q);
         let t = q - p * self.cos(d);
@@ -240,6 +256,7 @@ impl Space {
     }
 
     /// The point reached from `p` by the tangent vector `v`: C_κ(|v|)·p + S_κ(|v|)·v/|v|.
+    #[inline]
     pub fn exp(&self, p: DVec3, v: DVec3) -> DVec3 {
         let n = self.point_dot(v, v).max(0.0).sqrt();
         if n == 0.0 {
@@ -295,6 +312,7 @@ impl Space {
 
     /// The tangent vector at `p` turned a quarter turn counter-clockwise (seen from above, the
     /// model's orientation): J v = G(p × v) with G = diag(1, 1, κ), for every κ.
+    #[inline]
     pub fn quarter_turn(&self, p: DVec3, v: DVec3) -> DVec3 {
         let c = p.cross(v);
         DVec3::new(c.x, c.y, self.kappa * c.z)
@@ -303,12 +321,14 @@ impl Space {
     /// The reflection of an ambient point or tangent vector in a wall ν (normalised so that
     /// ν₁² + ν₂² + κν₃² = 1): x ↦ x − 2(ν·x)·Gν. Linear, so it maps points, tangent vectors and
     /// geodesics alike.
+    #[inline]
     pub fn reflect(&self, nu: DVec3, x: DVec3) -> DVec3 {
         x - 2.0 * nu.dot(x) * DVec3::new(nu.x, nu.y, self.kappa * nu.z)
     }
 
     /// Angle-like coordinate of a point `x` on the geodesic through `p` with unit tangent `t`:
     /// the σ with x = C_κ(σ)·p + S_κ(σ)·t (for κ = +1 in (−π, π]).
+    #[inline]
     pub fn geodesic_parameter(&self, p: DVec3, t: DVec3, x: DVec3) -> f64 {
         let along = self.point_dot(x, t);
         match self.kappa {
