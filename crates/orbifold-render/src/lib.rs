@@ -5,11 +5,14 @@
 //! See DESIGN.md §8.
 
 pub mod camera;
+pub mod film;
 pub mod geodesic;
 pub mod room;
+pub mod sampler;
 pub mod tiling;
 
 pub mod aov;
+pub mod bsdf;
 pub mod bvh;
 pub mod instance;
 pub mod tracer;
