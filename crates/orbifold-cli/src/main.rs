@@ -26,6 +26,7 @@ fn main() -> ExitCode {
         Command::Scene(command) => commands::scene::run(&command),
         Command::Room(args) => commands::room::run(&args),
         Command::Trace(args) => commands::trace::run(&args),
+        Command::Render(args) => commands::render::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

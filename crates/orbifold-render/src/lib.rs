@@ -15,6 +15,9 @@ pub mod aov;
 pub mod bsdf;
 pub mod bvh;
 pub mod instance;
+pub mod integrator;
+pub mod light;
+pub mod render;
 pub mod tracer;
 pub mod triangle;
 

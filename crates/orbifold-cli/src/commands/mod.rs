@@ -4,6 +4,7 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod render;
 pub mod room;
 pub mod scene;
 pub mod tiling;

@@ -11,7 +11,7 @@ use crate::output;
 /// Where a new scene's camera stands: on the −x side of the centre, three quarters of the way to
 /// the wall, so that it looks across the room at the object in the middle rather than from
 /// inside it.
-fn camera_position(layout: &orbifold::Layout) -> [f64; 2] {
+pub(crate) fn camera_position(layout: &orbifold::Layout) -> [f64; 2] {
     let space = layout.space();
     let inside = |t: f64| {
         let z = layout.centre - t;

@@ -1,0 +1,677 @@
+//! Light transport in mirror rooms of S²×R, E²×R and H²×R: a unidirectional path tracer with
+//! next-event estimation through mirror images, multiple importance sampling and Russian
+//! roulette (DESIGN.md §8; docs/rendering.md).
+//!
+//! A camera path runs along exact geodesics. Mirrors are followed deterministically (their
+//! reflectance multiplies the path's throughput); at every other surface the path gathers direct
+//! light and then scatters by its BSDF. Direct light is sampled by picking one (light, image,
+//! way round) from a distribution fixed per scene (∝ the light's power × the image's
+//! reflectance bound / J at its distance from the room's centre), a point on that light, and the
+//! geodesic from the surface to the light's image; the geodesic is followed through the real
+//! room, and counts only if it arrives at the light through mirrors alone. A path that hits an
+//! area light after a non-specular bounce is weighted against that light sample by the power
+//! heuristic; the image it came through is found from the walls it met.
+
+use glam::{DMat3, DVec3};
+use num_complex::Complex64;
+use orbifold::space::Space;
+use orbifold_scene::{Coordinates, Material, Scene};
+
+use crate::bsdf::Bsdf;
+use crate::geodesic::Ray;
+use crate::light::{
+    Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
+    travel_direction,
+};
+use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
+use crate::tracer::{SurfaceId, Tracer};
+use crate::triangle::TriangleHit;
+
+/// How far a new ray starts from the surface it leaves (intrinsic units).
+const RAY_EPSILON: f64 = 1e-7;
+/// The most mirror reflections on one straight stretch of a path (rays that run into an ideal
+/// corner bounce ever faster; they end here, dark).
+pub const MAX_MIRROR_BOUNCES: usize = 256;
+
+/// Settings of the light transport.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// The most non-mirror bounces of a path.
+    pub max_depth: u32,
+    /// Next-event estimation (light sampling through mirror images) with MIS; without it, light
+    /// is found only by paths that hit it (brute force, the reference for tests).
+    pub nee: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            max_depth: 8,
+            nee: true,
+        }
+    }
+}
+
+/// A texture: what a diffuse surface's albedo is at a point.
+#[derive(Clone, Debug)]
+enum Texture {
+    Solid(Rgb),
+    Checker {
+        colors: [Rgb; 2],
+        size: f64,
+        intrinsic: bool,
+    },
+    Image {
+        pixels: std::sync::Arc<Vec<Rgb>>,
+        width: usize,
+        height: usize,
+        scale: f64,
+        intrinsic: bool,
+    },
+}
+
+fn srgb_to_linear(c: u8) -> f64 {
+    let c = f64::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+impl Texture {
+    fn new(material: &Material, base: Option<&std::path::Path>) -> Result<Texture, String> {
+        Ok(match material {
+            Material::Color { color } => Texture::Solid(*color),
+            Material::Checker {
+                colors,
+                size,
+                coordinates,
+            } => Texture::Checker {
+                colors: *colors,
+                size: *size,
+                intrinsic: *coordinates == Coordinates::Intrinsic,
+            },
+            Material::Texture {
+                path,
+                scale,
+                coordinates,
+            } => {
+                let file = base.map_or_else(|| path.into(), |b| b.join(path));
+                let image = image::open(&file)
+                    .map_err(|e| format!("cannot read texture {}: {e}", file.display()))?
+                    .to_rgb8();
+                let (width, height) = (image.width() as usize, image.height() as usize);
+                let pixels = image
+                    .pixels()
+                    .map(|p| p.0.map(srgb_to_linear))
+                    .collect::<Vec<_>>();
+                Texture::Image {
+                    pixels: std::sync::Arc::new(pixels),
+                    width,
+                    height,
+                    scale: *scale,
+                    intrinsic: *coordinates == Coordinates::Intrinsic,
+                }
+            }
+        })
+    }
+
+    /// The albedo at surface coordinates (u, v, w) (model or intrinsic as chosen by the caller
+    /// through `model` and `intrinsic`).
+    fn albedo(&self, model: [f64; 3], intrinsic: [f64; 3]) -> Rgb {
+        match self {
+            Texture::Solid(c) => *c,
+            Texture::Checker {
+                colors,
+                size,
+                intrinsic: use_intrinsic,
+            } => {
+                let p = if *use_intrinsic { intrinsic } else { model };
+                let parity: i64 = p.iter().map(|v| (v / size).floor() as i64).sum();
+                colors[parity.rem_euclid(2) as usize]
+            }
+            Texture::Image {
+                pixels,
+                width,
+                height,
+                scale,
+                intrinsic: use_intrinsic,
+            } => {
+                let p = if *use_intrinsic { intrinsic } else { model };
+                let u = (p[0] / scale).rem_euclid(1.0);
+                let v = (p[1] / scale).rem_euclid(1.0);
+                let i = ((u * *width as f64) as usize).min(width - 1);
+                let j = (((1.0 - v) * *height as f64) as usize).min(height - 1);
+                pixels[j * width + i]
+            }
+        }
+    }
+}
+
+/// One choice of the light sampler: a light, an image of the room, and (on the sphere) which
+/// way round.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Entry {
+    light: usize,
+    image: usize,
+    long_way: bool,
+}
+
+/// What a ray met.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Struck {
+    /// A room surface or an object.
+    Surface(SurfaceId, Option<(u32, [f64; 3])>),
+    /// An area light's mesh.
+    Light(usize, u32, [f64; 3]),
+}
+
+/// The nearest thing along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Near {
+    s: f64,
+    struck: Struck,
+    point: DVec3,
+    height: f64,
+}
+
+/// How a march along a ray through mirrors ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum MarchEnd {
+    /// At something that is not a mirror.
+    Hit(Near),
+    /// At the requested length, with nothing in the way.
+    Reached,
+    /// Out through a cusp, or at the mirror-bounce limit.
+    Lost,
+}
+
+/// A march through mirrors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct March {
+    end: MarchEnd,
+    /// Product of the mirrors' reflectances.
+    throughput: Rgb,
+    /// Product of the walls' reflections, first wall first.
+    chain: DMat3,
+    /// Arc length travelled (to the hit, or the requested length).
+    length: f64,
+    /// The ray after the last mirror; the end is at arc length `rest` along it.
+    ray: Ray,
+    /// Arc length along `ray` to the end.
+    rest: f64,
+}
+
+/// A mirror room ready to render: geometry, materials, lights and their images.
+#[derive(Clone, Debug)]
+pub struct Integrator {
+    /// Room and objects.
+    pub tracer: Tracer,
+    /// The lights.
+    pub lights: Vec<Light>,
+    /// The room's mirror images.
+    pub images: ImageSet,
+    /// Light transport settings.
+    pub settings: Settings,
+    entries: Vec<Entry>,
+    distribution: Option<Distribution1d>,
+    floor: Texture,
+    ceiling: Texture,
+    walls: Vec<Texture>,
+    objects: Vec<Texture>,
+    centre: DVec3,
+    centre_frame: TangentFrame,
+}
+
+fn luminance(c: Rgb) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+fn mul(a: Rgb, b: Rgb) -> Rgb {
+    [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
+}
+
+fn scale(a: Rgb, s: f64) -> Rgb {
+    a.map(|v| v * s)
+}
+
+fn add(a: &mut Rgb, b: Rgb) {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x += y;
+    }
+}
+
+impl Integrator {
+    /// The scene's room, objects, materials and lights; `base` resolves file names.
+    pub fn from_scene(
+        scene: &Scene,
+        base: Option<&std::path::Path>,
+        settings: Settings,
+    ) -> Result<Integrator, String> {
+        let tracer = Tracer::from_scene(scene, base)?;
+        let space = tracer.space();
+        let lights = Light::from_scene(space, scene)?;
+        let centre = space.to_ambient(tracer.layout.centre);
+        let images = ImageSet::new(&tracer.room, centre);
+        let wall_material = |i: usize| {
+            scene
+                .walls
+                .iter()
+                .find(|w| w.index == i)
+                .and_then(|w| w.material.clone())
+                .unwrap_or_else(|| scene.room.wall_material.clone())
+        };
+        let walls = (0..tracer.room.walls.len())
+            .map(|i| Texture::new(&wall_material(i), base))
+            .collect::<Result<_, _>>()?;
+        let objects = scene
+            .objects
+            .iter()
+            .map(|o| Texture::new(&o.material, base))
+            .collect::<Result<_, _>>()?;
+        let mut integrator = Integrator {
+            floor: Texture::new(&scene.room.floor, base)?,
+            ceiling: Texture::new(&scene.room.ceiling, base)?,
+            walls,
+            objects,
+            centre,
+            centre_frame: TangentFrame::at(space, centre),
+            tracer,
+            lights,
+            images,
+            settings,
+            entries: Vec::new(),
+            distribution: None,
+        };
+        integrator.build_light_distribution(scene.room.height);
+        Ok(integrator)
+    }
+
+    /// The light sampler's choices and weights: power × image reflectance / J(distance of the
+    /// image from the room's centre, at least the room's size).
+    fn build_light_distribution(&mut self, height: f64) {
+        let space = self.tracer.space();
+        let size = self
+            .tracer
+            .room
+            .walls
+            .iter()
+            .map(|w| space.ambient_distance(self.centre, w.start))
+            .fold(height, f64::max);
+        let floor = spread(space, size, size);
+        let ways: &[bool] = if space.kappa() > 0.0 {
+            &[false, true]
+        } else {
+            &[false]
+        };
+        let mut weights = Vec::new();
+        for (l, light) in self.lights.iter().enumerate() {
+            for (k, image) in self.images.images.iter().enumerate() {
+                let y = image.isometry * light.position;
+                let d = space.ambient_distance(self.centre, y);
+                for &long_way in ways {
+                    let sigma = if long_way {
+                        std::f64::consts::TAU - d
+                    } else {
+                        d
+                    };
+                    let j = spread(space, sigma, sigma).max(floor);
+                    let w = luminance(mul(light.power, image.reflectance)) / j;
+                    if w > 0.0 && w.is_finite() {
+                        self.entries.push(Entry {
+                            light: l,
+                            image: k,
+                            long_way,
+                        });
+                        weights.push(w);
+                    }
+                }
+            }
+        }
+        self.distribution = Distribution1d::new(&weights);
+    }
+
+    /// The plane.
+    pub fn space(&self) -> Space {
+        self.tracer.space()
+    }
+
+    fn entry_index(&self, light: usize, image: usize, long_way: bool) -> Option<usize> {
+        // Entries are in (light, image, way) order with some left out: binary search.
+        let key = (light, image, long_way);
+        self.entries
+            .binary_search_by(|e| (e.light, e.image, e.long_way).cmp(&key))
+            .ok()
+    }
+
+    /// The nearest room surface, object or area light along a ray.
+    fn nearest(&self, ray: &Ray) -> Option<Near> {
+        let space = self.space();
+        let hit = self.tracer.nearest(ray);
+        let mut best = hit.map(|h| Near {
+            s: h.s,
+            struck: Struck::Surface(h.surface, h.triangle),
+            point: h.point,
+            height: h.height,
+        });
+        for (l, light) in self.lights.iter().enumerate() {
+            if let Emitter::Area { instance, .. } = &light.emitter {
+                let limit = best.map_or(f64::INFINITY, |b| b.s);
+                if let Some(t) = instance.intersect(space, ray, 0.0, limit) {
+                    let (point, height) = ray.point_at(space, t.s);
+                    best = Some(Near {
+                        s: t.s,
+                        struck: Struck::Light(l, t.triangle, t.barycentric),
+                        point,
+                        height,
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// Follows a ray through mirrors for at most `length`.
+    fn march(&self, ray: &Ray, length: f64) -> March {
+        let space = self.space();
+        let mut march = March {
+            end: MarchEnd::Lost,
+            throughput: [1.0; 3],
+            chain: DMat3::IDENTITY,
+            length: 0.0,
+            ray: *ray,
+            rest: 0.0,
+        };
+        for _ in 0..=MAX_MIRROR_BOUNCES {
+            let remaining = length - march.length;
+            let near = self.nearest(&march.ray);
+            let Some(near) = near.filter(|n| n.s < remaining) else {
+                if remaining.is_finite() {
+                    march.end = MarchEnd::Reached;
+                    march.rest = remaining;
+                    march.length = length;
+                }
+                return march;
+            };
+            let mirror = match near.struck {
+                Struck::Surface(SurfaceId::Wall(w), _) => self
+                    .tracer
+                    .room
+                    .mirror_at(w, near.point, near.height)
+                    .map(|(_, m)| (w, m.reflectance)),
+                _ => None,
+            };
+            let Some((wall, reflectance)) = mirror else {
+                march.end = MarchEnd::Hit(near);
+                march.rest = near.s;
+                march.length += near.s;
+                return march;
+            };
+            march.throughput = mul(march.throughput, reflectance);
+            let form = self.tracer.room.walls[wall].form;
+            march.chain *= reflection_matrix(space, form);
+            march.length += near.s;
+            march.ray = march.ray.advanced(space, near.s).reflected(space, form);
+        }
+        march
+    }
+
+    /// The unit normal (local coordinates in `frame`) and the albedo where a march ended.
+    fn surface(&self, near: &Near, frame: &TangentFrame) -> Option<(DVec3, Rgb)> {
+        let space = self.space();
+        let z = space.to_model(near.point);
+        let model = [z.re, z.im, near.height];
+        let intrinsic = || {
+            let v = space.log(self.centre, near.point);
+            [
+                space.point_dot(v, self.centre_frame.e1),
+                space.point_dot(v, self.centre_frame.e2),
+                near.height,
+            ]
+        };
+        match near.struck {
+            Struck::Surface(SurfaceId::Floor, _) => {
+                Some((DVec3::Z, self.floor.albedo(model, intrinsic())))
+            }
+            Struck::Surface(SurfaceId::Ceiling, _) => {
+                Some((-DVec3::Z, self.ceiling.albedo(model, intrinsic())))
+            }
+            Struck::Surface(SurfaceId::Wall(w), _) => {
+                let room = &self.tracer.room;
+                let nu = room.walls[w].form;
+                let n = frame
+                    .to_local(space, DVec3::new(nu.x, nu.y, space.kappa() * nu.z), 0.0)
+                    .try_normalize()?;
+                let along = room.along(w, near.point) * room.walls[w].length;
+                let wall = [along, near.height, 0.0];
+                Some((n, self.walls[w].albedo(wall, wall)))
+            }
+            Struck::Surface(SurfaceId::Object(i), triangle) => {
+                let (triangle, barycentric) = triangle?;
+                let hit = TriangleHit {
+                    s: 0.0,
+                    triangle,
+                    barycentric,
+                };
+                let instance = &self.tracer.objects.instances()[i];
+                let (h, v) = instance.normal(space, &hit)?;
+                let n = frame.to_local(space, h, v).try_normalize()?;
+                Some((n, self.objects[i].albedo(model, intrinsic())))
+            }
+            Struck::Light(..) => None,
+        }
+    }
+
+    /// The unit normal of an area light's triangle at barycentrics `w`, local in `frame`.
+    fn light_normal(
+        &self,
+        light: usize,
+        triangle: u32,
+        w: [f64; 3],
+        frame: &TangentFrame,
+    ) -> Option<DVec3> {
+        let Emitter::Area { instance, .. } = &self.lights[light].emitter else {
+            return None;
+        };
+        let hit = TriangleHit {
+            s: 0.0,
+            triangle,
+            barycentric: w,
+        };
+        let (h, v) = instance.normal(self.space(), &hit)?;
+        frame.to_local(self.space(), h, v).try_normalize()
+    }
+
+    /// Direct light at a surface point through next-event estimation: one light sample.
+    #[allow(clippy::too_many_arguments)]
+    fn direct(
+        &self,
+        sampler: &mut Sampler,
+        x: DVec3,
+        h: f64,
+        frame: &TangentFrame,
+        shading: &Frame,
+        wo: DVec3,
+        bsdf: &Bsdf,
+    ) -> Rgb {
+        let space = self.space();
+        let Some(distribution) = &self.distribution else {
+            return [0.0; 3];
+        };
+        let (index, pmf) = distribution.sample(sampler.next_f64());
+        let entry = self.entries[index];
+        let light = &self.lights[entry.light];
+        let image = &self.images.images[entry.image];
+        let Some(point) = light.sample_point(space, sampler.next_f64(), sampler.next_2d()) else {
+            return [0.0; 3];
+        };
+        let target = image.isometry * point.x;
+        let Some(link) = connect(space, frame, (x, h), (target, point.h), entry.long_way) else {
+            return [0.0; 3];
+        };
+        let wi = travel_direction(space, frame, &link.ray, 0.0);
+        let f = bsdf.eval(shading.to_local(wo), shading.to_local(wi));
+        let cos_x = wi.dot(shading.normal()).abs();
+        if luminance(f) <= 0.0 || cos_x == 0.0 {
+            return [0.0; 3];
+        }
+        let start = link.ray.advanced(space, RAY_EPSILON);
+        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON);
+        if march.end != MarchEnd::Reached {
+            return [0.0; 3];
+        }
+        // It must arrive at the light itself (the chain of walls it met is the image's).
+        let (end, end_h) = march.ray.point_at(space, march.rest + RAY_EPSILON);
+        let tolerance = 1e-6 * (1.0 + link.length);
+        if space.ambient_distance(end, point.x) > tolerance || (end_h - point.h).abs() > tolerance {
+            return [0.0; 3];
+        }
+        let light_frame = TangentFrame::at(space, point.x);
+        let arrival = travel_direction(space, &light_frame, &march.ray, march.rest + RAY_EPSILON);
+        let unoccluded = mul(f, march.throughput);
+        match point.triangle {
+            None => {
+                // A point light: its own frame is the one at its position.
+                let out =
+                    -travel_direction(space, &light.frame, &march.ray, march.rest + RAY_EPSILON);
+                let emitted = light.emission(out, 1.0);
+                scale(mul(unoccluded, emitted), cos_x / (link.spread * pmf))
+            }
+            Some((triangle, w)) => {
+                let Some(n) = self.light_normal(entry.light, triangle, w, &light_frame) else {
+                    return [0.0; 3];
+                };
+                let cos_out = -arrival.dot(n);
+                let emitted = light.emission(-arrival, cos_out);
+                if cos_out == 0.0 || luminance(emitted) <= 0.0 {
+                    return [0.0; 3];
+                }
+                let pdf_light = pmf * point.pdf_area * link.spread / cos_out.abs();
+                let pdf_bsdf = bsdf.pdf(shading.to_local(wo), shading.to_local(wi));
+                let weight = power_heuristic(1.0, pdf_light, 1.0, pdf_bsdf);
+                scale(mul(unoccluded, emitted), cos_x * weight / pdf_light)
+            }
+        }
+    }
+
+    /// The probability density (solid angle at the previous vertex) with which light sampling
+    /// would have produced a path that hit area light `light` at (`triangle`, `w`) after meeting
+    /// the walls of `march.chain`.
+    fn light_pdf(
+        &self,
+        light: usize,
+        triangle: u32,
+        w: [f64; 3],
+        march: &March,
+        cos_out: f64,
+    ) -> f64 {
+        let space = self.space();
+        let Some(distribution) = &self.distribution else {
+            return 0.0;
+        };
+        let Some(image) = self.images.find_chain(&march.chain) else {
+            return 0.0;
+        };
+        let sigma = march.length * march.ray.cos_elevation.abs();
+        let long_way = space.kappa() > 0.0 && sigma > std::f64::consts::PI;
+        if space.kappa() > 0.0 && sigma > std::f64::consts::TAU {
+            return 0.0;
+        }
+        let Some(index) = self.entry_index(light, image, long_way) else {
+            return 0.0;
+        };
+        let pdf_area = self.lights[light].pdf_area(space, triangle, w);
+        let j = spread(space, march.length, sigma);
+        distribution.pmf(index) * pdf_area * j / cos_out.abs().max(1e-12)
+    }
+
+    /// The radiance arriving along a camera ray (one path sample).
+    pub fn radiance(&self, ray: &Ray, sampler: &mut Sampler) -> Rgb {
+        let space = self.space();
+        let mut radiance = [0.0; 3];
+        let mut beta = [1.0; 3];
+        let mut ray = *ray;
+        // The previous scattering: specular (or the camera), and its BSDF pdf.
+        let mut specular = true;
+        let mut pdf_bsdf = 0.0;
+        let mut depth = 0;
+        loop {
+            let march = self.march(&ray, f64::INFINITY);
+            beta = mul(beta, march.throughput);
+            let MarchEnd::Hit(near) = march.end else {
+                break;
+            };
+            let (x, h) = (near.point, near.height);
+            let frame = TangentFrame::at(space, x);
+            let travel = travel_direction(space, &frame, &march.ray, march.rest);
+            if let Struck::Light(l, triangle, w) = near.struck {
+                let Some(n) = self.light_normal(l, triangle, w, &frame) else {
+                    break;
+                };
+                let cos_out = -travel.dot(n);
+                let emitted = self.lights[l].emission(-travel, cos_out);
+                let weight = if specular || !self.settings.nee {
+                    1.0
+                } else {
+                    let pdf_light = self.light_pdf(l, triangle, w, &march, cos_out);
+                    power_heuristic(1.0, pdf_bsdf, 1.0, pdf_light)
+                };
+                add(&mut radiance, scale(mul(beta, emitted), weight));
+                break;
+            }
+            let Some((normal, albedo)) = self.surface(&near, &frame) else {
+                break;
+            };
+            // Surfaces are two-sided: face the normal towards where the path came from.
+            let wo = -travel;
+            let normal = if normal.dot(wo) < 0.0 {
+                -normal
+            } else {
+                normal
+            };
+            let shading = Frame::from_normal(normal);
+            let bsdf = Bsdf::Diffuse { albedo };
+            // As in pbrt: a path has at most max_depth scattering vertices, whether its last
+            // segment to the light comes from light sampling or from a hit.
+            if depth == self.settings.max_depth {
+                break;
+            }
+            depth += 1;
+            if self.settings.nee && !bsdf.is_delta() {
+                let direct = self.direct(sampler, x, h, &frame, &shading, wo, &bsdf);
+                add(&mut radiance, mul(beta, direct));
+            }
+            let Some(sample) =
+                bsdf.sample(shading.to_local(wo), sampler.next_2d(), sampler.next_f64())
+            else {
+                break;
+            };
+            let wi = shading.to_world(sample.wi);
+            beta = mul(beta, sample.weight);
+            specular = sample.delta;
+            pdf_bsdf = sample.pdf;
+            if depth >= 3 {
+                let survive = luminance(beta).clamp(0.05, 1.0);
+                if sampler.next_f64() >= survive {
+                    break;
+                }
+                beta = scale(beta, 1.0 / survive);
+            }
+            if !beta.iter().all(|b| b.is_finite()) || luminance(beta) <= 0.0 {
+                break;
+            }
+            ray = frame.ray(space, x, h, wi).advanced(space, RAY_EPSILON);
+        }
+        if radiance.iter().all(|v| v.is_finite()) {
+            radiance
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    /// The model point of the room's centre (for cameras and tests).
+    pub fn centre(&self) -> Complex64 {
+        self.tracer.layout.centre
+    }
+}

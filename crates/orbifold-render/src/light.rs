@@ -1,0 +1,656 @@
+//! Lights, their mirror images, and geodesic connections between two points (DESIGN.md §8).
+//!
+//! **Connections.** Two points (x, h₁) and (y, h₂) of S²×R, E²×R or H²×R are joined by the
+//! geodesic whose horizontal part runs the geodesic of the plane from x to y (horizontal length
+//! σ, direction `log(x, y)`) and whose height is linear in arc length: length ℓ = √(σ² + Δh²),
+//! elevation α = atan2(Δh, σ). On the sphere there is also the geodesic that goes the other way
+//! round (σ′ = 2π − σ). The light that leaves a point into a small solid angle dω covers the area
+//! J·dω at distance ℓ, with J(ℓ, α) = ℓ·S_κ(ℓ cos α)/cos α = ℓ²·S_κ(σ)/σ (ℓ² for κ = 0) — the
+//! area density of geodesic spheres — so the geometric term of a connection is
+//! |cos θ₁||cos θ₂| / J. On the sphere J vanishes at the antipode, where light refocuses.
+//!
+//! **Images.** A light seen in a chain of mirrors is, unfolded, the light moved by the product of
+//! the walls' reflections: the image g·y in the tile g·P of the room's universal cover. A
+//! connection to an image, followed in the real room, bounces off those walls and arrives at the
+//! light; it counts only if every wall it meets on the way is a mirror there, nothing blocks it,
+//! and it really arrives (the tracer checks all three). Images are enumerated once per room,
+//! breadth first across mirror walls, and kept while their largest possible contribution —
+//! reflectance bound over J at their least possible distance — stays above a fraction of the
+//! direct light's ([`ImageSet::new`]); so point lights light the room through mirrors, and area
+//! lights converge without waiting for random hits.
+
+use std::collections::HashMap;
+use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
+
+use glam::{DMat3, DVec3};
+use num_complex::Complex64;
+use orbifold::embed::{Placement, embed};
+use orbifold::space::Space;
+use orbifold_scene::{LightKind, Scene};
+
+use crate::bvh::Bvh;
+use crate::geodesic::Ray;
+use crate::instance::Instance;
+use crate::room::AnalyticRoom;
+
+/// Linear RGB.
+pub type Rgb = [f64; 3];
+
+/// An orthonormal frame of the tangent space of the product space at a point: two unit
+/// horizontal ambient tangents and the vertical. Local coordinates are (e₁, e₂, up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentFrame {
+    /// First horizontal unit tangent (ambient).
+    pub e1: DVec3,
+    /// Second horizontal unit tangent, a quarter turn from `e1`.
+    pub e2: DVec3,
+}
+
+impl TangentFrame {
+    /// A frame at the ambient point `x` (any frame: shading only needs one).
+    ///
+    /// ```
+    /// use orbifold::{Geometry, space::Space};
+    /// use orbifold_render::light::TangentFrame;
+    /// use glam::DVec3;
+    /// let h2 = Space::new(Geometry::Hyperbolic);
+    /// let x = h2.exp(DVec3::Z, DVec3::new(0.3, -1.2, 0.0));
+    /// let f = TangentFrame::at(h2, x);
+    /// assert!((h2.point_dot(f.e1, f.e1) - 1.0).abs() < 1e-12 && h2.point_dot(f.e1, f.e2).abs() < 1e-12);
+    /// ```
+    pub fn at(space: Space, x: DVec3) -> TangentFrame {
+        let k = space.kappa();
+        let tangent = |a: DVec3| {
+            if k == 0.0 {
+                DVec3::new(a.x, a.y, 0.0)
+            } else {
+                a - x * (k * space.point_dot(x, a))
+            }
+        };
+        let mut t = tangent(DVec3::X);
+        if space.point_dot(t, t) < 0.25 {
+            t = tangent(DVec3::Y);
+        }
+        let e1 = t / space.point_dot(t, t).sqrt();
+        TangentFrame {
+            e1,
+            e2: space.quarter_turn(x, e1),
+        }
+    }
+
+    /// Local coordinates of a tangent vector (horizontal ambient part, vertical part).
+    #[inline]
+    pub fn to_local(&self, space: Space, horizontal: DVec3, vertical: f64) -> DVec3 {
+        DVec3::new(
+            space.point_dot(horizontal, self.e1),
+            space.point_dot(horizontal, self.e2),
+            vertical,
+        )
+    }
+
+    /// The tangent vector (horizontal ambient part, vertical part) of local coordinates.
+    #[inline]
+    pub fn to_ambient(&self, v: DVec3) -> (DVec3, f64) {
+        (self.e1 * v.x + self.e2 * v.y, v.z)
+    }
+
+    /// The ray from (x, h) in the local direction `v` (unit).
+    pub fn ray(&self, space: Space, x: DVec3, h: f64, v: DVec3) -> Ray {
+        let horizontal = (v.x * v.x + v.y * v.y).sqrt();
+        let (u, elevation) = if horizontal < 1e-12 {
+            (self.e1, v.z.signum() * std::f64::consts::FRAC_PI_2)
+        } else {
+            (
+                (self.e1 * v.x + self.e2 * v.y) / horizontal,
+                v.z.atan2(horizontal),
+            )
+        };
+        Ray::new(space, x, u, h, elevation)
+    }
+}
+
+/// The local direction of travel of a ray at arc length `s` (unit, in `frame` at that point).
+pub fn travel_direction(space: Space, frame: &TangentFrame, ray: &Ray, s: f64) -> DVec3 {
+    let u = ray.tangent_at(space, s * ray.cos_elevation);
+    frame.to_local(space, u * ray.cos_elevation, ray.sin_elevation)
+}
+
+/// J(ℓ, α) = ℓ²·S_κ(σ)/σ for horizontal length σ = ℓ cos α: the area that a unit solid angle
+/// covers at arc length ℓ (ℓ² in E²×R). Its absolute value (the sphere's S is negative past π).
+///
+/// ```
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::light::spread;
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// // Vertical: like flat space; horizontal: the circumference density ℓ sinh ℓ.
+/// assert!((spread(h2, 2.0, 0.0) - 4.0).abs() < 1e-12);
+/// assert!((spread(h2, 2.0, 2.0) - 2.0 * 2f64.sinh()).abs() < 1e-12);
+/// ```
+pub fn spread(space: Space, length: f64, sigma: f64) -> f64 {
+    let ratio = if sigma < 1e-8 {
+        1.0 - space.kappa() * sigma * sigma / 6.0
+    } else {
+        space.sin(sigma) / sigma
+    };
+    length * length * ratio.abs()
+}
+
+/// A geodesic from one point to another.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Connection {
+    /// The geodesic, starting at the first point.
+    pub ray: Ray,
+    /// Its arc length.
+    pub length: f64,
+    /// Its horizontal length σ.
+    pub sigma: f64,
+    /// J: see [`spread`].
+    pub spread: f64,
+}
+
+/// The geodesic from (x, hx) to (y, hy); with `long_way` (the sphere only) the one that goes
+/// round the other side. `frame` is a frame at x (for a vertical connection).
+pub fn connect(
+    space: Space,
+    frame: &TangentFrame,
+    (x, hx): (DVec3, f64),
+    (y, hy): (DVec3, f64),
+    long_way: bool,
+) -> Option<Connection> {
+    let d = space.ambient_distance(x, y);
+    let (u, sigma) = if d < 1e-12 {
+        if long_way {
+            return None;
+        }
+        (frame.e1, 0.0)
+    } else {
+        let u = space.log(x, y) / d;
+        if long_way { (-u, TAU - d) } else { (u, d) }
+    };
+    let dh = hy - hx;
+    let length = (sigma * sigma + dh * dh).sqrt();
+    if !(length > 1e-12 && length.is_finite()) {
+        return None;
+    }
+    Some(Connection {
+        ray: Ray::new(space, x, u, hx, dh.atan2(sigma)),
+        length,
+        sigma,
+        spread: spread(space, length, sigma),
+    })
+}
+
+/// The reflection across a wall (normalised linear form ν) as an ambient matrix:
+/// x ↦ x − 2(ν·x)Gν.
+pub fn reflection_matrix(space: Space, nu: DVec3) -> DMat3 {
+    let g_nu = DVec3::new(nu.x, nu.y, space.kappa() * nu.z);
+    DMat3::from_cols(
+        DVec3::X - g_nu * (2.0 * nu.x),
+        DVec3::Y - g_nu * (2.0 * nu.y),
+        DVec3::Z - g_nu * (2.0 * nu.z),
+    )
+}
+
+/// One image of the room: a tile g·P of its universal cover reached across mirror walls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Image {
+    /// g, as an ambient matrix (the product of the wall reflections, first wall first).
+    pub isometry: DMat3,
+    /// g applied to the room's centre (identifies the tile).
+    pub key: DVec3,
+    /// The largest product of mirror reflectances a path into this tile can carry.
+    pub reflectance: Rgb,
+    /// Number of reflections.
+    pub depth: usize,
+}
+
+/// The images of a room (the identity first), with a lookup from g.
+#[derive(Clone, Debug)]
+pub struct ImageSet {
+    /// The images, the identity first, by depth.
+    pub images: Vec<Image>,
+    lookup: HashMap<[i64; 3], Vec<usize>>,
+    centre: DVec3,
+}
+
+/// Images are kept while their contribution bound is at least this fraction of the direct light's.
+pub const IMAGE_CUTOFF: f64 = 1e-4;
+/// At most this many images.
+pub const MAX_IMAGES: usize = 4096;
+
+fn luminance(c: Rgb) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+impl ImageSet {
+    /// The images of a room whose centre is `centre` (ambient), breadth first across walls that
+    /// carry a mirror, while reflectance bound × J(radius)/J(least distance) ≥ [`IMAGE_CUTOFF`]
+    /// and at most [`MAX_IMAGES`].
+    ///
+    /// ```
+    /// use orbifold::{Layout, LayoutOptions};
+    /// use orbifold_render::{light::ImageSet, room::AnalyticRoom};
+    /// let layout = Layout::new(&"*235".parse()?, &LayoutOptions::default())?;
+    /// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])?;
+    /// let images = ImageSet::new(&room, room.space.to_ambient(layout.centre));
+    /// // The spherical group *235 has 120 elements: every tile is an image.
+    /// assert_eq!(images.images.len(), 120);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(room: &AnalyticRoom, centre: DVec3) -> ImageSet {
+        let space = room.space;
+        let radius = room
+            .walls
+            .iter()
+            .map(|w| space.ambient_distance(centre, w.start))
+            .fold(0.0, f64::max)
+            .max(room.height)
+            .max(1e-3);
+        let reference = spread(space, radius, radius);
+        let mirrors: Vec<(usize, DMat3, Rgb)> = room
+            .walls
+            .iter()
+            .enumerate()
+            .filter_map(|(i, w)| {
+                let best = w.mirrors.iter().fold([0.0f64; 3], |acc, m| {
+                    [0, 1, 2].map(|c| acc[c].max(m.reflectance[c]))
+                });
+                (luminance(best) > 0.0).then(|| (i, reflection_matrix(space, w.form), best))
+            })
+            .collect();
+        let mut set = ImageSet {
+            images: vec![Image {
+                isometry: DMat3::IDENTITY,
+                key: centre,
+                reflectance: [1.0; 3],
+                depth: 0,
+            }],
+            lookup: HashMap::new(),
+            centre,
+        };
+        set.insert_key(0);
+        let mut next = 0;
+        while next < set.images.len() && set.images.len() < MAX_IMAGES {
+            let image = set.images[next];
+            next += 1;
+            for &(_, reflection, rho) in &mirrors {
+                let isometry = image.isometry * reflection;
+                let key = isometry * centre;
+                if set.find(key).is_some() {
+                    continue;
+                }
+                let reflectance = [0, 1, 2].map(|c| image.reflectance[c] * rho[c]);
+                let far = (space.ambient_distance(centre, key) - 2.0 * radius).max(radius);
+                let bound = luminance(reflectance) * reference / spread(space, far, far);
+                if space.kappa() <= 0.0 && bound < IMAGE_CUTOFF {
+                    continue;
+                }
+                set.images.push(Image {
+                    isometry,
+                    key,
+                    reflectance,
+                    depth: image.depth + 1,
+                });
+                set.insert_key(set.images.len() - 1);
+                if set.images.len() >= MAX_IMAGES {
+                    break;
+                }
+            }
+        }
+        set
+    }
+
+    fn cell(key: DVec3) -> [i64; 3] {
+        [key.x, key.y, key.z].map(|v| (v * 1e4).round() as i64)
+    }
+
+    fn insert_key(&mut self, index: usize) {
+        let cell = Self::cell(self.images[index].key);
+        self.lookup.entry(cell).or_default().push(index);
+    }
+
+    /// The image whose tile has centre `key` (within 1e-7), if enumerated.
+    pub fn find(&self, key: DVec3) -> Option<usize> {
+        let [a, b, c] = Self::cell(key);
+        for da in -1..=1 {
+            for db in -1..=1 {
+                for dc in -1..=1 {
+                    if let Some(list) = self.lookup.get(&[a + da, b + db, c + dc]) {
+                        for &i in list {
+                            if (self.images[i].key - key).length() < 1e-7 * (1.0 + key.length()) {
+                                return Some(i);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// The image reached by a path that met the walls with these reflection matrices, in order.
+    pub fn find_chain(&self, reflections: &DMat3) -> Option<usize> {
+        self.find(*reflections * self.centre)
+    }
+}
+
+/// How a light emits.
+#[derive(Clone, Debug)]
+pub enum Emitter {
+    /// A point emitting `intensity` (W/sr per channel) in every direction.
+    Point {
+        /// Radiant intensity.
+        intensity: Rgb,
+    },
+    /// A point emitting `intensity` inside a cone around `axis` (local frame at the light).
+    Spot {
+        /// Radiant intensity inside the cone.
+        intensity: Rgb,
+        /// Unit axis in the light's local frame.
+        axis: DVec3,
+        /// cos of the cone's half-angle.
+        cos_cone: f64,
+    },
+    /// A mesh of intrinsically flat triangles emitting `radiance` (Lambertian).
+    Area {
+        /// Emitted radiance.
+        radiance: Rgb,
+        /// The placed mesh (also hit by rays).
+        instance: Instance,
+        /// Triangle areas (intrinsic, for picking one ∝ area).
+        areas: Vec<f64>,
+        /// Their total.
+        total_area: f64,
+        /// Emits from both sides (spheres) or only the front (rectangles).
+        two_sided: bool,
+    },
+}
+
+/// A light of the scene.
+#[derive(Clone, Debug)]
+pub struct Light {
+    /// Ambient horizontal position of its centre.
+    pub position: DVec3,
+    /// Height of its centre.
+    pub height: f64,
+    /// A tangent frame at its centre.
+    pub frame: TangentFrame,
+    /// Power (W, per channel: colour × power).
+    pub power: Rgb,
+    /// How it emits.
+    pub emitter: Emitter,
+}
+
+/// A point sampled on a light, with its emission towards a direction still to be given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightPoint {
+    /// Ambient horizontal position.
+    pub x: DVec3,
+    /// Height.
+    pub h: f64,
+    /// Probability density per unit area (0 for point lights).
+    pub pdf_area: f64,
+    /// The triangle of the light's mesh and the barycentrics (area lights).
+    pub triangle: Option<(u32, [f64; 3])>,
+}
+
+impl Light {
+    /// The lights of a scene in the room's space.
+    pub fn from_scene(space: Space, scene: &Scene) -> Result<Vec<Light>, String> {
+        scene
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let z = Complex64::new(l.at[0], l.at[1]);
+                let position = space.to_ambient(z);
+                let frame = TangentFrame::at(space, position);
+                let power = l.color.map(|c| c * l.power);
+                let (yaw, pitch) = (l.yaw.to_radians(), l.pitch.to_radians());
+                // The light's direction in (model +x, model +y, up) at its position, then in
+                // the light's own frame.
+                let model = [
+                    space.model_tangent(z, Complex64::new(1.0, 0.0)),
+                    space.model_tangent(z, Complex64::new(0.0, 1.0)),
+                ];
+                let h = model[0] * (pitch.cos() * yaw.cos()) + model[1] * (pitch.cos() * yaw.sin());
+                let axis = frame.to_local(space, h, pitch.sin()).normalize();
+                let emitter = match l.kind {
+                    LightKind::Point => Emitter::Point {
+                        intensity: power.map(|p| p / (4.0 * PI)),
+                    },
+                    LightKind::Spot => {
+                        let cos_cone = l.cone.to_radians().cos();
+                        Emitter::Spot {
+                            intensity: power.map(|p| p / (TAU * (1.0 - cos_cone))),
+                            axis,
+                            cos_cone,
+                        }
+                    }
+                    LightKind::Sphere => {
+                        let mesh = orbifold_scene::mesh::procedural::builtin("sphere")
+                            .ok_or("no built-in sphere")?;
+                        let centre =
+                            orbifold::embed::centre_of_mass(&mesh.positions, &mesh.triangles);
+                        let (lo, hi) = mesh.bounds().ok_or("empty sphere")?;
+                        let scale = 2.0 * l.radius / (hi[1] - lo[1]);
+                        area_emitter(
+                            space,
+                            &mesh.positions,
+                            &mesh.triangles,
+                            centre,
+                            scale,
+                            z,
+                            l.height - l.radius,
+                            power,
+                            true,
+                        )
+                        .map_err(|e| format!("lights[{i}]: {e}"))?
+                    }
+                    LightKind::Rectangle => {
+                        let (positions, triangles, lowest) = rectangle(axis, l.size);
+                        area_emitter(
+                            space,
+                            &positions,
+                            &triangles,
+                            DVec3::ZERO,
+                            1.0,
+                            z,
+                            l.height + lowest,
+                            power,
+                            false,
+                        )
+                        .map_err(|e| format!("lights[{i}]: {e}"))?
+                    }
+                };
+                Ok(Light {
+                    position,
+                    height: l.height,
+                    frame,
+                    power,
+                    emitter,
+                })
+            })
+            .collect()
+    }
+
+    /// Whether the light is a point (delta) light.
+    pub fn is_point(&self) -> bool {
+        !matches!(self.emitter, Emitter::Area { .. })
+    }
+
+    /// Samples a point on the light (the centre for point lights) with uniforms `u`, `v`.
+    pub fn sample_point(&self, space: Space, u: f64, v: (f64, f64)) -> Option<LightPoint> {
+        let Emitter::Area {
+            instance,
+            areas,
+            total_area,
+            ..
+        } = &self.emitter
+        else {
+            return Some(LightPoint {
+                x: self.position,
+                h: self.height,
+                pdf_area: 0.0,
+                triangle: None,
+            });
+        };
+        // Pick a triangle ∝ area (a linear scan: light meshes are small).
+        let mut target = u * total_area;
+        let mut index = areas.len() - 1;
+        for (i, a) in areas.iter().enumerate() {
+            if target < *a {
+                index = i;
+                break;
+            }
+            target -= a;
+        }
+        let root = v.0.sqrt();
+        let w = [1.0 - root, root * (1.0 - v.1), root * v.1];
+        let triangle = instance.bvh.triangle(index as u32);
+        let (x, h) = triangle.point(space, w);
+        let jacobian = area_jacobian(space, &triangle.points, &triangle.heights, w);
+        if jacobian <= 0.0 {
+            return None;
+        }
+        Some(LightPoint {
+            x: instance.to_world * x,
+            h: h + instance.height,
+            pdf_area: areas[index] / total_area * 2.0 / jacobian,
+            triangle: Some((index as u32, w)),
+        })
+    }
+
+    /// The density per unit area with which [`Light::sample_point`] picks the point of triangle
+    /// `triangle` at barycentrics `w` (area lights).
+    pub fn pdf_area(&self, space: Space, triangle: u32, w: [f64; 3]) -> f64 {
+        let Emitter::Area {
+            instance,
+            areas,
+            total_area,
+            ..
+        } = &self.emitter
+        else {
+            return 0.0;
+        };
+        let t = instance.bvh.triangle(triangle);
+        let jacobian = area_jacobian(space, &t.points, &t.heights, w);
+        if jacobian <= 0.0 {
+            return 0.0;
+        }
+        areas[triangle as usize] / total_area * 2.0 / jacobian
+    }
+
+    /// Radiant intensity (point lights) or radiance (area lights) leaving towards the local
+    /// direction `out` (unit, in the light's frame for point lights; for area lights `cos_out` is
+    /// the cosine with the surface normal, negative behind).
+    pub fn emission(&self, out: DVec3, cos_out: f64) -> Rgb {
+        match &self.emitter {
+            Emitter::Point { intensity } => *intensity,
+            Emitter::Spot {
+                intensity,
+                axis,
+                cos_cone,
+            } => {
+                if out.dot(*axis) >= *cos_cone {
+                    *intensity
+                } else {
+                    [0.0; 3]
+                }
+            }
+            Emitter::Area {
+                radiance,
+                two_sided,
+                ..
+            } => {
+                if cos_out > 0.0 || (*two_sided && cos_out < 0.0) {
+                    *radiance
+                } else {
+                    [0.0; 3]
+                }
+            }
+        }
+    }
+}
+
+/// The area element of the intrinsically flat triangle at barycentrics `w`, per unit of
+/// (w₁, w₂): |∂X/∂w₁ ∧ ∂X/∂w₂| in the product metric, X(w) = (normalise(Σ wᵢpᵢ), Σ wᵢhᵢ).
+pub fn area_jacobian(space: Space, points: &[DVec3; 3], heights: &[f64; 3], w: [f64; 3]) -> f64 {
+    let q = points[0] * w[0] + points[1] * w[1] + points[2] * w[2];
+    // normalise(q) = q/|q|_κ, and for κ = 0 q/q_z (the plane z = 1).
+    let norm = if space.kappa() == 0.0 {
+        q.z
+    } else {
+        space.point_dot(q, q).abs().sqrt()
+    };
+    if norm == 0.0 {
+        return 0.0;
+    }
+    let n = q / norm;
+    let k = space.kappa();
+    // d normalise(q) = (v − κ⟨n, v⟩n)/|q| (E²: z is fixed at 1 and v has z = 0).
+    let project = |v: DVec3| (v - n * (k * space.point_dot(n, v))) / norm;
+    let a = (project(points[1] - points[0]), heights[1] - heights[0]);
+    let b = (project(points[2] - points[0]), heights[2] - heights[0]);
+    let dot = |x: (DVec3, f64), y: (DVec3, f64)| space.point_dot(x.0, y.0) + x.1 * y.1;
+    (dot(a, a) * dot(b, b) - dot(a, b).powi(2)).max(0.0).sqrt()
+}
+
+/// A rectangle facing `axis` (local frame), `size` = [width, height], in object coordinates
+/// (Y up) as [`embed`] takes them, centred at the origin; and its lowest local height.
+fn rectangle(axis: DVec3, size: [f64; 2]) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, f64) {
+    let right = if axis.truncate().length() < 1e-9 {
+        DVec3::X
+    } else {
+        axis.cross(DVec3::Z).normalize()
+    };
+    let up = right.cross(axis);
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .map(|(a, b)| right * (0.5 * size[0] * a) + up * (0.5 * size[1] * b));
+    // Wound counter-clockwise seen from the front: (right, up, axis) is right-handed.
+    let lowest = corners.iter().map(|c| c.z).fold(f64::INFINITY, f64::min);
+    let positions = corners.iter().map(|c| [c.x, c.z, -c.y]).collect();
+    (positions, vec![[0, 1, 2], [0, 2, 3]], lowest)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn area_emitter(
+    space: Space,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+    centre: DVec3,
+    scale: f64,
+    at: Complex64,
+    height: f64,
+    power: Rgb,
+    two_sided: bool,
+) -> Result<Emitter, String> {
+    let embedded = embed(space, positions, centre, scale);
+    let bvh = Bvh::build(space, &embedded.points, &embedded.heights, triangles);
+    let areas: Vec<f64> = triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| embedded.points[i as usize]);
+            let h = t.map(|i| embedded.heights[i as usize]);
+            0.5 * area_jacobian(space, &p, &h, [1.0 / 3.0; 3])
+        })
+        .collect();
+    let total_area: f64 = areas.iter().sum();
+    if !(total_area > 0.0 && total_area.is_finite()) {
+        return Err("the light has no area".into());
+    }
+    let placement = Placement {
+        at,
+        height,
+        yaw: 0.0,
+    };
+    Ok(Emitter::Area {
+        // A Lambertian emitter of area A and radiance L sends out πAL.
+        radiance: power.map(|p| p / (PI * total_area)),
+        instance: Instance::from_placement(space, Arc::new(bvh), &placement),
+        areas,
+        total_area,
+        two_sided,
+    })
+}

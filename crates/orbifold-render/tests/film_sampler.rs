@@ -1,0 +1,696 @@
+//! Tests of the random sampler, the sampling helpers and the HDR film.
+
+use std::f64::consts::PI;
+use std::io::Cursor;
+use std::path::PathBuf;
+
+use glam::DVec3;
+use orbifold_render::film::{Film, luminance, tone_map};
+use orbifold_render::sampler::{
+    Distribution1d, Frame, Sampler, cosine_hemisphere, cosine_hemisphere_pdf, frame_from_normal,
+    power_heuristic, to_local, to_world, uniform_cone, uniform_cone_pdf, uniform_disk_concentric,
+    uniform_sphere, uniform_sphere_pdf,
+};
+use proptest::prelude::*;
+
+const DRAWS: usize = 100_000;
+
+/// Pearson's χ² of observed counts against expected counts.
+fn chi_square(observed: &[u64], expected: &[f64]) -> f64 {
+    observed
+        .iter()
+        .zip(expected)
+        .map(|(&o, &e)| (o as f64 - e).powi(2) / e)
+        .sum()
+}
+
+/// χ² of values that should be uniform in [0, 1), over `bins` bins.
+fn uniform_chi_square(values: impl Iterator<Item = f64>, bins: usize) -> f64 {
+    let mut counts = vec![0u64; bins];
+    let mut n = 0usize;
+    for v in values {
+        assert!((0.0..=1.0).contains(&v), "{v} outside [0, 1]");
+        counts[((v * bins as f64) as usize).min(bins - 1)] += 1;
+        n += 1;
+    }
+    chi_square(&counts, &vec![n as f64 / bins as f64; bins])
+}
+
+// With 31 degrees of freedom the 99.9 % quantile of χ² is about 61.1.
+const CHI2_31: f64 = 61.1;
+
+fn uniforms(seed: u64) -> impl Iterator<Item = (f64, f64)> {
+    let mut s = Sampler::new(seed, 12345, 0);
+    std::iter::repeat_with(move || s.next_2d()).take(DRAWS)
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * b.abs()
+}
+
+// ---------------------------------------------------------------- sampler
+
+#[test]
+fn sampler_is_deterministic() {
+    let mut a = Sampler::new(42, 17, 3);
+    let mut b = Sampler::new(42, 17, 3);
+    for _ in 0..1000 {
+        assert_eq!(a.next_u64(), b.next_u64());
+    }
+    let mut a = Sampler::new(42, 17, 3);
+    let mut b = Sampler::new(42, 17, 3);
+    assert_eq!(a.next_2d(), b.next_2d());
+    assert_eq!(a.next_u32_below(10), b.next_u32_below(10));
+    assert_eq!(a.next_f64(), b.next_f64());
+}
+
+#[test]
+fn different_seeds_pixels_and_samples_give_different_streams() {
+    let first = |seed, pixel, sample| -> Vec<u64> {
+        let mut s = Sampler::new(seed, pixel, sample);
+        (0..4).map(|_| s.next_u64()).collect()
+    };
+    let base = first(1, 2, 3);
+    assert_ne!(base, first(0, 2, 3));
+    assert_ne!(base, first(1, 3, 3));
+    assert_ne!(base, first(1, 2, 4));
+    // Swapping the roles of pixel and sample gives another stream.
+    assert_ne!(first(1, 2, 3), first(1, 3, 2));
+    // All first values over a grid of (pixel, sample) are distinct.
+    let mut seen = std::collections::HashSet::new();
+    for pixel in 0..100 {
+        for sample in 0..100 {
+            assert!(seen.insert(Sampler::new(9, pixel, sample).next_u64()));
+        }
+    }
+}
+
+#[test]
+fn neighbouring_streams_are_uncorrelated() {
+    // Pearson correlation of the first uniform of pixel p and of pixel p + 1 (and of sample
+    // s and s + 1): about N(0, 1/√n).
+    let n = 20_000;
+    for (dp, ds) in [(1, 0), (0, 1)] {
+        let pairs: Vec<(f64, f64)> = (0..n)
+            .map(|p| {
+                (
+                    Sampler::new(5, p, 0).next_f64(),
+                    Sampler::new(5, p + dp, ds).next_f64(),
+                )
+            })
+            .collect();
+        let (ma, mb) = pairs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+            (a + x / n as f64, b + y / n as f64)
+        });
+        let cov: f64 = pairs.iter().map(|(x, y)| (x - ma) * (y - mb)).sum::<f64>();
+        let va: f64 = pairs.iter().map(|(x, _)| (x - ma).powi(2)).sum::<f64>();
+        let vb: f64 = pairs.iter().map(|(_, y)| (y - mb).powi(2)).sum::<f64>();
+        let r = cov / (va * vb).sqrt();
+        assert!(r.abs() < 0.03, "correlation {r}");
+    }
+}
+
+#[test]
+fn next_f64_is_uniform() {
+    let mut s = Sampler::new(3, 0, 0);
+    let chi2 = uniform_chi_square(std::iter::repeat_with(|| s.next_f64()).take(DRAWS), 32);
+    assert!(chi2 < CHI2_31, "χ² = {chi2}");
+    // Across pixels too: the first draw of each pixel's stream.
+    let chi2 = uniform_chi_square(
+        (0..DRAWS as u64).map(|p| Sampler::new(3, p, 0).next_f64()),
+        32,
+    );
+    assert!(chi2 < CHI2_31, "χ² over pixels = {chi2}");
+    let mut s = Sampler::new(3, 0, 0);
+    for _ in 0..DRAWS {
+        let (a, b) = s.next_2d();
+        assert!((0.0..1.0).contains(&a) && (0.0..1.0).contains(&b));
+    }
+}
+
+#[test]
+fn next_u32_below_stays_in_bounds_and_is_uniform() {
+    let mut s = Sampler::new(11, 1, 1);
+    for n in [1, 2, 3, 7, 1000, 1 << 31, u32::MAX] {
+        for _ in 0..2000 {
+            assert!(s.next_u32_below(n) < n);
+        }
+    }
+    assert!((0..100).all(|_| s.next_u32_below(1) == 0));
+    let mut counts = [0u64; 6];
+    for _ in 0..60_000 {
+        counts[s.next_u32_below(6) as usize] += 1;
+    }
+    // 5 degrees of freedom: the 99.9 % quantile is about 20.5.
+    let chi2 = chi_square(&counts, &[10_000.0; 6]);
+    assert!(chi2 < 20.5, "χ² = {chi2} for {counts:?}");
+    // A large n that is not a power of two: the top half must not be favoured.
+    let n = 3 * (1u32 << 30);
+    let high = (0..40_000).filter(|_| s.next_u32_below(n) >= n / 2).count();
+    assert!((high as f64 / 40_000.0 - 0.5).abs() < 0.015, "{high}");
+}
+
+#[test]
+#[should_panic]
+fn next_u32_below_zero_panics() {
+    Sampler::new(0, 0, 0).next_u32_below(0);
+}
+
+// ---------------------------------------------------------------- warping functions
+
+#[test]
+fn cosine_hemisphere_has_density_cos_over_pi() {
+    let dirs: Vec<DVec3> = uniforms(1).map(cosine_hemisphere).collect();
+    for w in &dirs {
+        assert!((w.length() - 1.0).abs() < 1e-12 && w.z >= 0.0, "{w}");
+    }
+    // ∫ √z dω over the hemisphere = 4π/3, estimated as E[√z / pdf].
+    let estimate = dirs
+        .iter()
+        .filter(|w| w.z > 0.0)
+        .map(|w| w.z.sqrt() / cosine_hemisphere_pdf(w.z))
+        .sum::<f64>()
+        / dirs.len() as f64;
+    assert!(close(estimate, 4.0 * PI / 3.0, 0.02), "{estimate}");
+    // Under cos θ/π, z² is uniform and so is the azimuth.
+    assert!(uniform_chi_square(dirs.iter().map(|w| w.z * w.z), 32) < CHI2_31);
+    let azimuth = |w: &DVec3| (w.y.atan2(w.x) / (2.0 * PI)).rem_euclid(1.0);
+    assert!(uniform_chi_square(dirs.iter().map(azimuth), 32) < CHI2_31);
+    assert_eq!(cosine_hemisphere_pdf(-0.1), 0.0);
+}
+
+#[test]
+fn uniform_sphere_has_density_one_over_four_pi() {
+    let dirs: Vec<DVec3> = uniforms(2).map(uniform_sphere).collect();
+    for w in &dirs {
+        assert!((w.length() - 1.0).abs() < 1e-12, "{w}");
+    }
+    // E[1/pdf] is the measure 4π; ∫ (x + y + z)² dω = 4π too but tests all three axes.
+    let measure = dirs.iter().map(|_| 1.0 / uniform_sphere_pdf()).sum::<f64>() / DRAWS as f64;
+    assert!(close(measure, 4.0 * PI, 1e-9));
+    let estimate = dirs
+        .iter()
+        .map(|w| (w.x + w.y + w.z).powi(2) / uniform_sphere_pdf())
+        .sum::<f64>()
+        / DRAWS as f64;
+    assert!(close(estimate, 4.0 * PI, 0.02), "{estimate}");
+    // Archimedes: z is uniform in [−1, 1].
+    assert!(uniform_chi_square(dirs.iter().map(|w| (w.z + 1.0) / 2.0), 32) < CHI2_31);
+    let azimuth = |w: &DVec3| (w.y.atan2(w.x) / (2.0 * PI)).rem_euclid(1.0);
+    assert!(uniform_chi_square(dirs.iter().map(azimuth), 32) < CHI2_31);
+}
+
+#[test]
+fn uniform_cone_has_density_one_over_its_solid_angle() {
+    for cos_max in [0.95, 0.5, 0.0, -0.7] {
+        let dirs: Vec<DVec3> = uniforms(3).map(|u| uniform_cone(u, cos_max)).collect();
+        for w in &dirs {
+            assert!((w.length() - 1.0).abs() < 1e-12, "{w}");
+            assert!(
+                w.z >= cos_max - 1e-12 && w.z <= 1.0,
+                "{w} outside the cone {cos_max}"
+            );
+        }
+        let pdf = uniform_cone_pdf(cos_max);
+        // ∫ z dω over the cone = π(1 − cos_max²).
+        let estimate = dirs.iter().map(|w| w.z / pdf).sum::<f64>() / DRAWS as f64;
+        let exact = PI * (1.0 - cos_max * cos_max);
+        assert!(
+            (estimate - exact).abs() < 0.02 * exact.max(0.3),
+            "{cos_max}: {estimate}"
+        );
+        // z is uniform in [cos_max, 1].
+        let z = dirs.iter().map(|w| (w.z - cos_max) / (1.0 - cos_max));
+        assert!(uniform_chi_square(z.map(|v| v.clamp(0.0, 1.0)), 32) < CHI2_31);
+    }
+    assert!(close(uniform_cone_pdf(-1.0), uniform_sphere_pdf(), 1e-15));
+}
+
+#[test]
+fn concentric_disk_is_uniform_in_area() {
+    let points: Vec<(f64, f64)> = uniforms(4).map(uniform_disk_concentric).collect();
+    for &(x, y) in &points {
+        assert!(x * x + y * y <= 1.0 + 1e-12);
+    }
+    // ∫ (1 + x)² dA over the unit disk = π + π/4, with the density 1/π.
+    let estimate = points
+        .iter()
+        .map(|(x, _)| (1.0 + x).powi(2) * PI)
+        .sum::<f64>()
+        / DRAWS as f64;
+    assert!(close(estimate, 1.25 * PI, 0.02), "{estimate}");
+    assert!(uniform_chi_square(points.iter().map(|(x, y)| x * x + y * y), 32) < CHI2_31);
+    let angle = |&(x, y): &(f64, f64)| (y.atan2(x) / (2.0 * PI)).rem_euclid(1.0);
+    assert!(uniform_chi_square(points.iter().map(angle), 32) < CHI2_31);
+    assert_eq!(uniform_disk_concentric((0.5, 0.5)), (0.0, 0.0));
+}
+
+#[test]
+fn power_heuristic_is_a_partition_of_unity_and_robust() {
+    for (f, g) in [(1.0, 2.0), (0.3, 0.3), (1e-300, 1e300), (5.0, 1e-9)] {
+        let sum = power_heuristic(1.0, f, 1.0, g) + power_heuristic(1.0, g, 1.0, f);
+        assert!((sum - 1.0).abs() < 1e-12, "{f} {g}");
+    }
+    assert_eq!(power_heuristic(1.0, 1.0, 1.0, 3.0), 0.1);
+    assert_eq!(power_heuristic(2.0, 1.0, 1.0, 2.0), 0.5);
+    assert_eq!(power_heuristic(1.0, 2.0, 1.0, 0.0), 1.0);
+    assert_eq!(power_heuristic(1.0, 0.0, 1.0, 2.0), 0.0);
+    assert_eq!(power_heuristic(1.0, 0.0, 1.0, 0.0), 0.0);
+    assert_eq!(power_heuristic(1.0, f64::INFINITY, 1.0, 2.0), 1.0);
+    assert_eq!(power_heuristic(1.0, 2.0, 1.0, f64::INFINITY), 0.0);
+    assert_eq!(power_heuristic(1.0, f64::INFINITY, 1.0, f64::INFINITY), 0.5);
+    assert_eq!(power_heuristic(1.0, f64::NAN, 1.0, 1.0), 0.0);
+    assert_eq!(power_heuristic(1.0, 1e200, 1.0, 1e200), 0.5);
+}
+
+// ---------------------------------------------------------------- Distribution1d
+
+#[test]
+fn distribution_frequencies_follow_the_weights() {
+    let weights = [1.0, 0.0, 2.0, 3.0, 0.0, 4.0, 0.0];
+    let d = Distribution1d::new(&weights).unwrap();
+    assert_eq!(d.len(), 7);
+    assert!(!d.is_empty());
+    assert_eq!(d.total(), 10.0);
+    assert!(((0..d.len()).map(|i| d.pmf(i)).sum::<f64>() - 1.0).abs() < 1e-12);
+    assert_eq!(d.pmf(100), 0.0);
+    let mut counts = [0u64; 7];
+    let mut s = Sampler::new(8, 0, 0);
+    for _ in 0..DRAWS {
+        let (i, p) = d.sample(s.next_f64());
+        assert_eq!(p, d.pmf(i));
+        counts[i] += 1;
+    }
+    for (i, w) in weights.iter().enumerate() {
+        if *w == 0.0 {
+            assert_eq!(counts[i], 0, "item {i} of zero weight was chosen");
+        }
+    }
+    let observed: Vec<u64> = [0, 2, 3, 5].iter().map(|&i| counts[i]).collect();
+    let expected: Vec<f64> = [0, 2, 3, 5]
+        .iter()
+        .map(|&i| DRAWS as f64 * weights[i] / 10.0)
+        .collect();
+    // 3 degrees of freedom: the 99.9 % quantile is about 16.3.
+    let chi2 = chi_square(&observed, &expected);
+    assert!(chi2 < 16.3, "χ² = {chi2} for {counts:?}");
+}
+
+#[test]
+fn distribution_edges() {
+    let d = Distribution1d::new(&[0.0, 0.0, 1.0, 1.0, 0.0]).unwrap();
+    assert_eq!(d.sample(0.0), (2, 0.5));
+    assert_eq!(d.sample(0.5), (3, 0.5));
+    assert_eq!(d.sample(1.0 - f64::EPSILON / 2.0), (3, 0.5));
+    assert_eq!(d.sample(1.0), (3, 0.5));
+    assert_eq!(d.sample(7.0), (3, 0.5));
+    assert_eq!(d.sample(-1.0), (2, 0.5));
+    assert_eq!(d.sample(f64::NAN), (2, 0.5));
+    // Weights with very different scales.
+    let d = Distribution1d::new(&[1e-300, 1.0, 1e300]).unwrap();
+    assert_eq!(d.sample(0.5).0, 2);
+    // Rejected inputs.
+    assert!(Distribution1d::new(&[]).is_none());
+    assert!(Distribution1d::new(&[0.0; 4]).is_none());
+    assert!(Distribution1d::new(&[1.0, -0.5]).is_none());
+    assert!(Distribution1d::new(&[1.0, f64::INFINITY]).is_none());
+    assert!(Distribution1d::new(&[1.0, f64::NAN]).is_none());
+    assert!(Distribution1d::new(&[f64::MAX, f64::MAX]).is_none());
+    // A single item.
+    let d = Distribution1d::new(&[0.25]).unwrap();
+    assert_eq!((d.sample(0.9), d.len(), d.total()), ((0, 1.0), 1, 0.25));
+}
+
+// ---------------------------------------------------------------- frames
+
+fn check_frame(n: DVec3) {
+    let (t, b) = frame_from_normal(n);
+    for (v, name) in [(t, "tangent"), (b, "bitangent")] {
+        assert!(
+            (v.length() - 1.0).abs() < 1e-12,
+            "{name} of {n} has length {}",
+            v.length()
+        );
+        assert!(v.dot(n).abs() < 1e-12, "{name} of {n} not orthogonal to it");
+    }
+    assert!(t.dot(b).abs() < 1e-12);
+    assert!((t.cross(b) - n).length() < 1e-12, "not right-handed at {n}");
+    let v = DVec3::new(0.3, -1.2, 0.7);
+    assert!((to_world(n, t, b, to_local(n, t, b, v)) - v).length() < 1e-12);
+    let f = Frame::from_normal(n);
+    assert_eq!((f.tangent(), f.bitangent(), f.normal()), (t, b, n));
+    assert!((f.to_local(n) - DVec3::Z).length() < 1e-12);
+    assert!((f.to_world(f.to_local(v)) - v).length() < 1e-12);
+    assert!((f.to_local(f.to_world(v)) - v).length() < 1e-12);
+}
+
+#[test]
+fn frames_at_special_normals() {
+    for n in [
+        DVec3::X,
+        DVec3::Y,
+        DVec3::Z,
+        DVec3::NEG_X,
+        DVec3::NEG_Y,
+        DVec3::NEG_Z,
+        DVec3::new(0.0, 0.0, -0.0),
+        DVec3::new(1.0, 0.0, -0.0),
+        DVec3::new(1e-9, 0.0, -1.0).normalize(),
+        DVec3::new(0.0, 1e-9, 1.0).normalize(),
+    ] {
+        if n.length() > 0.5 {
+            check_frame(n);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn frames_are_orthonormal_and_right_handed(
+        x in -1.0f64..1.0,
+        y in -1.0f64..1.0,
+        z in -1.0f64..1.0,
+    ) {
+        let v = DVec3::new(x, y, z);
+        prop_assume!(v.length() > 1e-3);
+        check_frame(v.normalize());
+    }
+
+    #[test]
+    fn frames_of_sphere_samples(u0 in 0.0f64..1.0, u1 in 0.0f64..1.0) {
+        check_frame(uniform_sphere((u0, u1)));
+    }
+}
+
+// ---------------------------------------------------------------- film
+
+fn random_film(width: u32, height: u32, samples: u64, seed: u64) -> (Film, Vec<[f64; 3]>) {
+    let mut film = Film::new(width, height);
+    let mut all = Vec::new();
+    for y in 0..height {
+        for x in 0..width {
+            let pixel = u64::from(y * width + x);
+            for k in 0..samples {
+                let mut s = Sampler::new(seed, pixel, k);
+                let c = [s.next_f64() * 3.0, s.next_f64(), s.next_f64() * 0.5];
+                film.add(x, y, c);
+                all.push(c);
+            }
+        }
+    }
+    (film, all)
+}
+
+#[test]
+fn film_pixels_are_the_mean_of_their_samples() {
+    let mut film = Film::new(3, 2);
+    let samples = [[1.0, 2.0, 3.0], [0.5, 0.0, 1.0], [4.5, 1.0, 2.0]];
+    for s in samples {
+        film.add(2, 1, s);
+    }
+    assert_eq!(film.pixel(2, 1), [2.0, 1.0, 2.0]);
+    assert_eq!(film.samples(2, 1), 3);
+    assert_eq!(film.pixel(0, 0), [0.0; 3]);
+    assert_eq!(film.samples(0, 0), 0);
+    assert_eq!(film.dropped(), 0);
+    // Standard error of the luminance mean, by the textbook formula.
+    let l: Vec<f64> = samples.iter().map(|&s| luminance(s)).collect();
+    let mean = l.iter().sum::<f64>() / 3.0;
+    let var = l.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 2.0;
+    assert!((film.standard_error(2, 1) - (var / 3.0).sqrt()).abs() < 1e-12);
+    assert_eq!(film.standard_error(0, 0), f64::INFINITY);
+    // A constant pixel has no error at all.
+    let mut flat = Film::new(1, 1);
+    for _ in 0..10 {
+        flat.add(0, 0, [0.1, 0.7, 0.3]);
+    }
+    assert_eq!(flat.standard_error(0, 0), 0.0);
+    assert_eq!(flat.relative_noise(), 0.0);
+}
+
+#[test]
+fn relative_noise_follows_its_definition() {
+    let (film, _) = random_film(4, 3, 5, 21);
+    let mut expected = 0.0;
+    for y in 0..3 {
+        for x in 0..4 {
+            let l = luminance(film.pixel(x, y));
+            expected += film.standard_error(x, y) / (l + 1e-2) / 12.0;
+        }
+    }
+    assert!((film.relative_noise() - expected).abs() < 1e-12);
+    assert!(expected > 0.0);
+    // More samples, less noise.
+    let (more, _) = random_film(4, 3, 80, 21);
+    assert!(more.relative_noise() < 0.5 * film.relative_noise());
+    // Unknown noise below two samples per pixel; none for an empty film.
+    assert_eq!(random_film(2, 2, 1, 0).0.relative_noise(), f64::INFINITY);
+    assert_eq!(Film::new(0, 0).relative_noise(), 0.0);
+}
+
+#[test]
+fn merging_equals_adding_everything() {
+    let (w, h) = (5, 4);
+    let mut all = Film::new(w, h);
+    let mut parts = [Film::new(w, h), Film::new(w, h), Film::new(w, h)];
+    let mut s = Sampler::new(77, 0, 0);
+    for k in 0..300 {
+        let (x, y) = (s.next_u32_below(w), s.next_u32_below(h));
+        let c = if k % 50 == 0 {
+            [f64::NAN, 0.0, 0.0]
+        } else {
+            [s.next_f64() * 10.0, s.next_f64(), s.next_f64()]
+        };
+        all.add(x, y, c);
+        parts[s.next_u32_below(3) as usize].add(x, y, c);
+    }
+    let mut merged = Film::new(w, h);
+    for part in &parts {
+        merged.merge(part);
+    }
+    assert_eq!(merged.dropped(), all.dropped());
+    assert_eq!(all.dropped(), 6);
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(merged.samples(x, y), all.samples(x, y));
+            for (a, b) in merged.pixel(x, y).iter().zip(all.pixel(x, y)) {
+                assert!((a - b).abs() < 1e-12);
+            }
+            let (ea, eb) = (merged.standard_error(x, y), all.standard_error(x, y));
+            assert!(ea == eb || (ea - eb).abs() < 1e-12, "{ea} vs {eb}");
+        }
+    }
+    assert!((merged.relative_noise() - all.relative_noise()).abs() < 1e-9);
+}
+
+#[test]
+#[should_panic]
+fn merging_films_of_different_sizes_panics() {
+    Film::new(2, 2).merge(&Film::new(2, 3));
+}
+
+#[test]
+fn rows_equal_single_samples() {
+    let (w, h) = (4, 3);
+    let mut by_pixel = Film::new(w, h);
+    let mut by_row = Film::new(w, h);
+    for pass in 0..3 {
+        for y in 0..h {
+            let row: Vec<[f64; 3]> = (0..w)
+                .map(|x| {
+                    [
+                        f64::from(x + pass),
+                        f64::from(y),
+                        if x == 2 { f64::NAN } else { 0.5 },
+                    ]
+                })
+                .collect();
+            for (x, c) in row.iter().enumerate() {
+                by_pixel.add(x as u32, y, *c);
+            }
+            by_row.add_row(y, &row);
+        }
+    }
+    assert_eq!(by_pixel, by_row);
+    assert_eq!(by_row.dropped(), 9);
+}
+
+#[test]
+fn non_finite_samples_are_dropped_and_counted() {
+    let mut film = Film::new(2, 1);
+    film.add(0, 0, [1.0, 1.0, 1.0]);
+    film.add(0, 0, [f64::NAN, 1.0, 1.0]);
+    film.add(0, 0, [1.0, f64::INFINITY, 1.0]);
+    film.add(0, 0, [1.0, 1.0, f64::NEG_INFINITY]);
+    film.add(1, 0, [f64::NAN; 3]);
+    assert_eq!(film.dropped(), 4);
+    assert_eq!(film.pixel(0, 0), [1.0; 3]);
+    assert_eq!(film.samples(0, 0), 1);
+    assert_eq!(film.samples(1, 0), 0);
+    assert_eq!(film.pixel(1, 0), [0.0; 3]);
+    // Nothing non-finite reaches the outputs.
+    let png = film.to_png_bytes(0.0).unwrap();
+    assert!(image::load_from_memory(&png).is_ok());
+}
+
+#[test]
+#[should_panic]
+fn adding_outside_the_film_panics() {
+    Film::new(2, 2).add(2, 0, [0.0; 3]);
+}
+
+#[test]
+fn exr_round_trips() {
+    use exr::prelude::*;
+
+    let (w, h) = (7u32, 5u32);
+    let (mut film, _) = random_film(w, h, 3, 4);
+    film.add(6, 4, [1e4, 1e-6, 123.456]);
+    let bytes = film.to_exr_bytes().unwrap();
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgb_channels(
+            |size, _| vec![vec![[0f32; 3]; size.width()]; size.height()],
+            |rows: &mut Vec<Vec<[f32; 3]>>, p: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
+                rows[p.y()][p.x()] = [r, g, b];
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .unwrap();
+    let layer = &image.layer_data;
+    assert_eq!(layer.size, Vec2(w as usize, h as usize));
+    let names: Vec<String> = {
+        let (r, g, b) = &layer.channel_data.channels;
+        [r, g, b].iter().map(|c| c.name.to_string()).collect()
+    };
+    assert_eq!(names, ["R", "G", "B"]);
+    assert_eq!(layer.channel_data.channels.0.sample_type, SampleType::F32);
+    let rows = &layer.channel_data.pixels;
+    for y in 0..h {
+        for x in 0..w {
+            let expected = film.pixel(x, y).map(|v| v as f32);
+            assert_eq!(rows[y as usize][x as usize], expected, "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn png_decodes_to_the_tone_mapped_pixels() {
+    let (w, h) = (6u32, 3u32);
+    let (mut film, _) = random_film(w, h, 2, 8);
+    film.add(0, 2, [50.0, 0.0, 0.0]);
+    for exposure in [0.0, -1.5, 2.0] {
+        let png = film.to_png_bytes(exposure).unwrap();
+        let decoded = image::load_from_memory_with_format(&png, image::ImageFormat::Png)
+            .unwrap()
+            .to_rgb8();
+        assert_eq!(decoded.dimensions(), (w, h));
+        for y in 0..h {
+            for x in 0..w {
+                assert_eq!(
+                    decoded.get_pixel(x, y).0,
+                    tone_map(film.pixel(x, y), exposure)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn tone_map_is_monotone_and_saturates() {
+    assert_eq!(tone_map([0.0; 3], 0.0), [0; 3]);
+    assert_eq!(tone_map([0.0; 3], 5.0), [0; 3]);
+    assert_eq!(tone_map([1e6; 3], 0.0), [255; 3]);
+    assert_eq!(tone_map([f64::INFINITY; 3], 0.0), [255; 3]);
+    assert_eq!(tone_map([f64::NAN, -1.0, f64::NEG_INFINITY], 0.0), [0; 3]);
+    let mut previous = 0u8;
+    for k in 0..=4000 {
+        let x = 1e-4 * 1.005f64.powi(k);
+        let [r, g, b] = tone_map([x, x, x], 0.0);
+        assert!(r == g && g == b);
+        assert!(r >= previous, "not monotone at {x}");
+        previous = r;
+    }
+    assert_eq!(previous, 255);
+    // Channels are mapped independently, and an exposure of +1 stop doubles the input.
+    assert_eq!(
+        tone_map([0.1, 0.2, 0.4], 1.0),
+        tone_map([0.2, 0.4, 0.8], 0.0)
+    );
+    let [r, g, b] = tone_map([0.05, 0.2, 1.0], 0.0);
+    assert!(r < g && g < b);
+    // Mid grey lands in the middle of the range.
+    let [grey, _, _] = tone_map([0.18; 3], 0.0);
+    assert!((80..=160).contains(&grey), "{grey}");
+}
+
+/// A fresh, empty directory for one test.
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("orbifold-film-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn entries(dir: &PathBuf) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn write_is_atomic_and_chooses_the_format_by_extension() {
+    let dir = scratch_dir("write");
+    let (film, _) = random_film(4, 4, 2, 1);
+    let png = dir.join("out.png");
+    let exr = dir.join("out.EXR");
+    film.write(&png, 0.5).unwrap();
+    film.write(&exr, 0.0).unwrap();
+    assert_eq!(
+        std::fs::read(&png).unwrap(),
+        film.to_png_bytes(0.5).unwrap()
+    );
+    assert_eq!(std::fs::read(&exr).unwrap(), film.to_exr_bytes().unwrap());
+    // Overwriting replaces the file, and no temporary file is left behind.
+    let (other, _) = random_film(4, 4, 2, 2);
+    other.write(&png, 0.5).unwrap();
+    assert_eq!(
+        std::fs::read(&png).unwrap(),
+        other.to_png_bytes(0.5).unwrap()
+    );
+    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
+
+    // Unknown or missing extensions are errors that say what was wrong, and write nothing.
+    let error = film.write(&dir.join("out.jpeg"), 0.0).unwrap_err();
+    assert!(error.contains(".jpeg"), "{error}");
+    let error = film.write(&dir.join("out"), 0.0).unwrap_err();
+    assert!(error.contains("no extension"), "{error}");
+    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
+
+    // A directory that does not exist: an error, and nothing is created.
+    let missing = dir.join("missing").join("out.png");
+    assert!(film.write(&missing, 0.0).is_err());
+    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_failed_rename_leaves_no_temporary_file() {
+    // The target is a non-empty directory: the rename fails after the temporary file exists.
+    let dir = scratch_dir("rename");
+    let target = dir.join("taken.png");
+    std::fs::create_dir(&target).unwrap();
+    std::fs::write(target.join("keep"), b"x").unwrap();
+    let (film, _) = random_film(2, 2, 2, 3);
+    assert!(film.write(&target, 0.0).is_err());
+    assert_eq!(entries(&dir), ["taken.png"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,221 @@
+//! Light transport checks: light sampling through mirror images against brute-force path
+//! tracing, determinism, finite pixels everywhere, and the geometric term against the geodesic
+//! flow.
+
+use std::sync::atomic::AtomicBool;
+
+use glam::DVec3;
+use orbifold::Geometry;
+use orbifold::space::Space;
+use orbifold_render::camera::Camera;
+use orbifold_render::film::Film;
+use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::light::{TangentFrame, spread};
+use orbifold_render::render::{RenderOptions, render};
+use orbifold_scene::{LightKind, Material, Mirror, Scene, Wall};
+
+/// A room of `signature` with grey walls, one partial mirror per wall of reflectance 0.8, a
+/// sphere light and the camera looking across the room.
+fn scene(signature: &str, light: LightKind) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    scene.objects.clear();
+    let layout = scene.layout().unwrap();
+    let c = [layout.centre.re, layout.centre.im];
+    scene.room.mirrors = orbifold_scene::MirrorDefault::None;
+    scene.room.wall_material = Material::Color {
+        color: [0.6, 0.6, 0.6],
+    };
+    scene.walls = (0..layout.vertices.len())
+        .map(|i| Wall {
+            index: i,
+            material: None,
+            mirrors: vec![Mirror {
+                from: 0.2,
+                to: 0.8,
+                bottom: 0.2,
+                top: Some(0.9),
+                reflectance: [0.8, 0.8, 0.8],
+            }],
+        })
+        .collect();
+    scene.lights[0].kind = light;
+    scene.lights[0].at = c;
+    scene.lights[0].height = 0.6;
+    scene.lights[0].radius = 0.12;
+    scene.lights[0].power = 20.0;
+    scene.camera.at = [c[0] - 0.05, c[1]];
+    scene.camera.pitch = -30.0;
+    scene.camera.fov = 100.0;
+    scene
+}
+
+fn image(scene: &Scene, nee: bool, samples: u32, seed: u64) -> Film {
+    let settings = Settings { max_depth: 3, nee };
+    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let options = RenderOptions {
+        width: 8,
+        height: 6,
+        samples,
+        seed,
+        time_limit: None,
+    };
+    render(
+        &integrator,
+        &camera,
+        &options,
+        &AtomicBool::new(false),
+        &|_, _| {},
+    )
+    .film
+}
+
+fn luminance(c: [f64; 3]) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// Mean luminance of the image and its standard error (pixels are independent).
+fn mean_and_error(film: &Film) -> (f64, f64) {
+    let (w, h) = (film.width(), film.height());
+    let n = f64::from(w * h);
+    let mut mean = 0.0;
+    let mut variance = 0.0;
+    for y in 0..h {
+        for x in 0..w {
+            mean += luminance(film.pixel(x, y)) / n;
+            variance += film.standard_error(x, y).powi(2) / (n * n);
+        }
+    }
+    (mean, variance.sqrt())
+}
+
+#[test]
+fn light_sampling_through_mirrors_agrees_with_brute_force() {
+    // The same estimate two ways: next-event estimation through mirror images with MIS, and
+    // paths that find the light by chance; spherical, Euclidean and hyperbolic rooms.
+    for signature in ["*235", "*2222", "*2223"] {
+        let scene = scene(signature, LightKind::Sphere);
+        let nee = image(&scene, true, 64, 1);
+        let brute = image(&scene, false, 512, 2);
+        let (a, ea) = mean_and_error(&nee);
+        let (b, eb) = mean_and_error(&brute);
+        assert!(a > 0.0 && b > 0.0, "{signature}: {a} {b}");
+        let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * a;
+        assert!(
+            (a - b).abs() < tolerance,
+            "{signature}: NEE {a} ± {ea}, brute force {b} ± {eb}"
+        );
+    }
+}
+
+#[test]
+fn point_lights_light_the_room_through_mirrors() {
+    // With the direct view of a point light blocked by nothing, mirrors add light: the same
+    // room with mirrors is brighter than without.
+    // Black walls: without mirrors they add nothing; as mirrors of reflectance 0.8 they show
+    // the light's images, which light the floor. (Brute force cannot find a point light.)
+    for signature in ["*2222", "*333", "*2223", "*235"] {
+        let mut plain = scene(signature, LightKind::Point);
+        plain.room.wall_material = Material::Color { color: [0.0; 3] };
+        plain.walls.clear();
+        let mut mirrored = plain.clone();
+        mirrored.room.mirrors = orbifold_scene::MirrorDefault::All;
+        mirrored.room.reflectance = [0.8; 3];
+        let (a, _) = mean_and_error(&image(&mirrored, true, 16, 3));
+        let (b, _) = mean_and_error(&image(&plain, true, 16, 3));
+        assert!(
+            a > 1.2 * b && b > 0.0,
+            "{signature}: mirrored {a}, plain {b}"
+        );
+        let (c, _) = mean_and_error(&image(&mirrored, false, 16, 3));
+        assert_eq!(c, 0.0, "{signature}: brute force found a point light");
+    }
+}
+
+#[test]
+fn a_seed_gives_the_same_image_whatever_the_threads() {
+    let scene = scene("*333", LightKind::Sphere);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| image(&scene, true, 4, 9));
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| image(&scene, true, 4, 9));
+    for y in 0..one.height() {
+        for x in 0..one.width() {
+            assert_eq!(one.pixel(x, y), two.pixel(x, y));
+        }
+    }
+    let other = image(&scene, true, 4, 10);
+    assert!((0..6).any(|y| (0..8).any(|x| other.pixel(x, y) != one.pixel(x, y))));
+}
+
+#[test]
+fn every_pixel_is_finite() {
+    // Ideal corners, full mirrors (rays that bounce until the limit), the sphere's antipodal
+    // focusing, spot and rectangle lights.
+    let mut cases = Vec::new();
+    for (signature, light) in [
+        ("*∞∞∞", LightKind::Point),
+        ("*22", LightKind::Spot),
+        ("*235", LightKind::Rectangle),
+        ("*2223", LightKind::Sphere),
+    ] {
+        let mut s = scene(signature, light);
+        s.room.mirrors = orbifold_scene::MirrorDefault::All;
+        s.room.reflectance = [1.0; 3];
+        s.walls.clear();
+        cases.push(s);
+    }
+    cases.push(Scene::default());
+    for scene in &cases {
+        let film = image(scene, true, 2, 5);
+        assert_eq!(film.dropped(), 0, "{}", scene.orbifold.signature);
+        for y in 0..film.height() {
+            for x in 0..film.width() {
+                assert!(film.pixel(x, y).iter().all(|v| v.is_finite() && *v >= 0.0));
+            }
+        }
+    }
+}
+
+#[test]
+fn the_spread_is_the_area_density_of_geodesic_spheres() {
+    // J(ℓ, α) against the geodesic flow: the area swept by the ends of geodesics of length ℓ
+    // from one point, per unit solid angle, by finite differences in (α, φ).
+    for geometry in [
+        Geometry::Spherical,
+        Geometry::Euclidean,
+        Geometry::Hyperbolic,
+    ] {
+        let space = Space::new(geometry);
+        let x = space.exp(DVec3::Z, DVec3::new(0.2, -0.1, 0.0));
+        let frame = TangentFrame::at(space, x);
+        for (length, alpha, phi) in [(0.7, 0.3, 0.4), (1.9, -0.8, 2.0), (2.5, 0.05, -1.0)] {
+            let end = |a: f64, f: f64| {
+                let v = DVec3::new(a.cos() * f.cos(), a.cos() * f.sin(), a.sin());
+                frame.ray(space, x, 0.3, v).point_at(space, length)
+            };
+            let e = 1e-6;
+            let (p, hp) = end(alpha, phi);
+            let (pa, ha) = end(alpha + e, phi);
+            let (pf, hf) = end(alpha, phi + e);
+            let da = (pa - p, ha - hp);
+            let df = (pf - p, hf - hp);
+            let dot = |u: (DVec3, f64), v: (DVec3, f64)| space.point_dot(u.0, v.0) + u.1 * v.1;
+            let area = (dot(da, da) * dot(df, df) - dot(da, df).powi(2)).sqrt();
+            let solid_angle = alpha.cos() * e * e;
+            let measured = area / solid_angle;
+            let expected = spread(space, length, length * alpha.cos());
+            assert!(
+                (measured - expected).abs() < 1e-4 * expected,
+                "{geometry:?} ℓ={length} α={alpha}: {measured} vs {expected}"
+            );
+        }
+    }
+}
