@@ -156,7 +156,20 @@ struct Entry {
     light: usize,
     image: usize,
     long_way: bool,
+    /// The image of the light's centre (ambient) and its height.
+    position: DVec3,
+    height: f64,
 }
+
+/// The first images (breadth first: the nearest tiles) whose light-sampling weights are worked
+/// out afresh at every surface point.
+const NEAR_IMAGES: usize = 32;
+/// The most (light, image, way) choices weighted per surface point.
+const NEAR_MAX: usize = 128;
+/// The share of light samples that use the per-point weights.
+const NEAR_SHARE: f64 = 0.5;
+/// Per-point weights treat nothing as closer than this (intrinsic units).
+const NEAR_CLAMP: f64 = 0.05;
 
 /// What a ray met.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -216,6 +229,8 @@ pub struct Integrator {
     pub settings: Settings,
     entries: Vec<Entry>,
     distribution: Option<Distribution1d>,
+    /// Indices into `entries` weighted per surface point (at most `NEAR_MAX`).
+    near: Vec<usize>,
     floor: Texture,
     ceiling: Texture,
     walls: Vec<Texture>,
@@ -283,6 +298,7 @@ impl Integrator {
             settings,
             entries: Vec::new(),
             distribution: None,
+            near: Vec::new(),
         };
         integrator.build_light_distribution(scene.room.height);
         Ok(integrator)
@@ -319,10 +335,15 @@ impl Integrator {
                     let j = spread(space, sigma, sigma).max(floor);
                     let w = luminance(mul(light.power, image.reflectance)) / j;
                     if w > 0.0 && w.is_finite() {
+                        if k < NEAR_IMAGES && self.near.len() < NEAR_MAX {
+                            self.near.push(self.entries.len());
+                        }
                         self.entries.push(Entry {
                             light: l,
                             image: k,
                             long_way,
+                            position: y,
+                            height: light.height,
                         });
                         weights.push(w);
                     }
@@ -335,6 +356,81 @@ impl Integrator {
     /// The plane.
     pub fn space(&self) -> Space {
         self.tracer.space()
+    }
+
+    /// The per-point weights of the `near` choices at (x, h) (power × reflectance bound / J of
+    /// the connection to the image's centre) into `weights`; returns their sum.
+    fn near_weights(&self, x: DVec3, h: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+        let space = self.space();
+        let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
+        let mut total = 0.0;
+        for (slot, &e) in weights.iter_mut().zip(&self.near) {
+            let entry = &self.entries[e];
+            let d = space.ambient_distance(x, entry.position);
+            let sigma = if entry.long_way {
+                std::f64::consts::TAU - d
+            } else {
+                d
+            };
+            let dh = entry.height - h;
+            let length = (sigma * sigma + dh * dh).sqrt();
+            let image = &self.images.images[entry.image];
+            let power = mul(self.lights[entry.light].power, image.reflectance);
+            *slot = luminance(power) / spread(space, length, sigma).max(floor);
+            total += *slot;
+        }
+        total
+    }
+
+    /// Picks a light-sampling choice at (x, h): with probability `NEAR_SHARE` among the near
+    /// images by per-point weights, else from the scene-wide distribution. Returns the entry
+    /// and its probability.
+    fn pick_entry(&self, x: DVec3, h: f64, u: f64) -> Option<(usize, f64)> {
+        let distribution = self.distribution.as_ref()?;
+        let mut weights = [0.0; NEAR_MAX];
+        let total = self.near_weights(x, h, &mut weights);
+        let share = if total > 0.0 && total.is_finite() {
+            NEAR_SHARE
+        } else {
+            0.0
+        };
+        let index = if u < share {
+            let mut target = u / share * total;
+            let mut chosen = self.near[self.near.len() - 1];
+            for (w, &e) in weights.iter().zip(&self.near) {
+                if target < *w {
+                    chosen = e;
+                    break;
+                }
+                target -= w;
+            }
+            chosen
+        } else {
+            distribution.sample((u - share) / (1.0 - share)).0
+        };
+        Some((index, self.entry_pmf(index, &weights, total, share)))
+    }
+
+    /// The probability of `pick_entry` choosing `index`, given the per-point weights.
+    fn entry_pmf(&self, index: usize, weights: &[f64; NEAR_MAX], total: f64, share: f64) -> f64 {
+        let global = self.distribution.as_ref().map_or(0.0, |d| d.pmf(index));
+        let near = match self.near.iter().position(|&e| e == index) {
+            Some(i) if share > 0.0 => weights[i] / total,
+            _ => 0.0,
+        };
+        share * near + (1.0 - share) * global
+    }
+
+    /// The probability of `pick_entry` at (x, h) choosing `index`.
+    fn pmf_at(&self, x: DVec3, h: f64, index: usize) -> f64 {
+        let mut weights = [0.0; NEAR_MAX];
+        let total = self.near_weights(x, h, &mut weights);
+        let share = if total > 0.0 && total.is_finite() {
+            NEAR_SHARE
+        } else {
+            0.0
+        };
+        self.entry_pmf(index, &weights, total, share)
     }
 
     fn entry_index(&self, light: usize, image: usize, long_way: bool) -> Option<usize> {
@@ -496,10 +592,9 @@ impl Integrator {
         bsdf: &Bsdf,
     ) -> Rgb {
         let space = self.space();
-        let Some(distribution) = &self.distribution else {
+        let Some((index, pmf)) = self.pick_entry(x, h, sampler.next_f64()) else {
             return [0.0; 3];
         };
-        let (index, pmf) = distribution.sample(sampler.next_f64());
         let entry = self.entries[index];
         let light = &self.lights[entry.light];
         let image = &self.images.images[entry.image];
@@ -560,6 +655,7 @@ impl Integrator {
     /// the walls of `march.chain`.
     fn light_pdf(
         &self,
+        (x, h): (DVec3, f64),
         light: usize,
         triangle: u32,
         w: [f64; 3],
@@ -567,9 +663,6 @@ impl Integrator {
         cos_out: f64,
     ) -> f64 {
         let space = self.space();
-        let Some(distribution) = &self.distribution else {
-            return 0.0;
-        };
         let Some(image) = self.images.find_chain(&march.chain) else {
             return 0.0;
         };
@@ -583,7 +676,7 @@ impl Integrator {
         };
         let pdf_area = self.lights[light].pdf_area(space, triangle, w);
         let j = spread(space, march.length, sigma);
-        distribution.pmf(index) * pdf_area * j / cos_out.abs().max(1e-12)
+        self.pmf_at(x, h, index) * pdf_area * j / cos_out.abs().max(1e-12)
     }
 
     /// The radiance arriving along a camera ray (one path sample).
@@ -595,6 +688,7 @@ impl Integrator {
         // The previous scattering: specular (or the camera), and its BSDF pdf.
         let mut specular = true;
         let mut pdf_bsdf = 0.0;
+        let mut previous = (DVec3::ZERO, 0.0);
         let mut depth = 0;
         loop {
             let march = self.march(&ray, f64::INFINITY);
@@ -614,7 +708,7 @@ impl Integrator {
                 let weight = if specular || !self.settings.nee {
                     1.0
                 } else {
-                    let pdf_light = self.light_pdf(l, triangle, w, &march, cos_out);
+                    let pdf_light = self.light_pdf(previous, l, triangle, w, &march, cos_out);
                     power_heuristic(1.0, pdf_bsdf, 1.0, pdf_light)
                 };
                 add(&mut radiance, scale(mul(beta, emitted), weight));
@@ -651,6 +745,7 @@ impl Integrator {
             beta = mul(beta, sample.weight);
             specular = sample.delta;
             pdf_bsdf = sample.pdf;
+            previous = (x, h);
             if depth >= 3 {
                 let survive = luminance(beta).clamp(0.05, 1.0);
                 if sampler.next_f64() >= survive {
