@@ -73,7 +73,7 @@ room of that orbifold (every wall a mirror, a figure in the middle, a light, the
 quarters of the way to the -x wall).
 
 --json prints {\"output\", \"width\", \"height\", \"samples\", \"seconds\", \"stopped_early\",
-\"relative_noise\", \"dropped_samples\"}.";
+\"relative_noise\", \"dropped_samples\", \"exposure\"}.";
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
@@ -90,8 +90,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
     /// Stop after this many seconds (at the end of the pass under way) and write what there is.
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time_limit: Option<f64>,
+    /// Stop once the relative noise (the mean over pixels of the standard error of the pixel's
+    /// luminance over that luminance + 0.01) is at most this, e.g. 0.02.
+    #[arg(long, value_name = "X")]
+    pub noise_target: Option<f64>,
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: Option<u32>,
@@ -104,14 +108,10 @@ pub struct RenderArgs {
     /// Brute-force path tracing: no light sampling (point and spot lights then give no light).
     #[arg(long)]
     pub no_nee: bool,
-    /// Exposure in stops for the PNG's tone mapping.
-    #[arg(
-        long,
-        value_name = "STOPS",
-        default_value_t = 0.0,
-        allow_hyphen_values = true
-    )]
-    pub exposure: f64,
+    /// Exposure in stops for the PNG's tone mapping (default: automatic, the image's
+    /// log-average luminance to middle grey 0.18).
+    #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
+    pub exposure: Option<f64>,
     /// Print a summary as JSON instead of text.
     #[arg(long)]
     pub json: bool,

@@ -33,6 +33,9 @@ const RAY_EPSILON: f64 = 1e-7;
 /// corner bounce ever faster; they end here, dark).
 pub const MAX_MIRROR_BOUNCES: usize = 256;
 
+/// Below this luminance of a path's throughput, mirror chains play Russian roulette.
+const ROULETTE_LEVEL: f64 = 0.1;
+
 /// Settings of the light transport.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -163,9 +166,9 @@ struct Entry {
 
 /// The first images (breadth first: the nearest tiles) whose light-sampling weights are worked
 /// out afresh at every surface point.
-const NEAR_IMAGES: usize = 32;
+const NEAR_IMAGES: usize = 24;
 /// The most (light, image, way) choices weighted per surface point.
-const NEAR_MAX: usize = 128;
+const NEAR_MAX: usize = 96;
 /// The share of light samples that use the per-point weights.
 const NEAR_SHARE: f64 = 0.5;
 /// Per-point weights treat nothing as closer than this (intrinsic units).
@@ -364,19 +367,31 @@ impl Integrator {
         let space = self.space();
         let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
         let mut total = 0.0;
+        let k = space.kappa();
         for (slot, &e) in weights.iter_mut().zip(&self.near) {
             let entry = &self.entries[e];
-            let d = space.ambient_distance(x, entry.position);
-            let sigma = if entry.long_way {
-                std::f64::consts::TAU - d
+            // σ and S(σ) from the chord c = 2 S(σ/2): S(σ) = c √(1 − κc²/4), with one inverse
+            // function (a logarithm in H²) — this runs for every near image at every vertex.
+            let d = x - entry.position;
+            let c = space.point_dot(d, d).max(0.0).sqrt();
+            let half = 0.5 * c;
+            let mut sigma = if k > 0.0 {
+                2.0 * half.min(1.0).asin()
+            } else if k < 0.0 {
+                2.0 * (half + (half * half + 1.0).sqrt()).ln()
             } else {
-                d
+                c
             };
+            let sine = c * (1.0 - k * half * half).max(0.0).sqrt();
+            if entry.long_way {
+                sigma = std::f64::consts::TAU - sigma;
+            }
             let dh = entry.height - h;
-            let length = (sigma * sigma + dh * dh).sqrt();
+            let length2 = sigma * sigma + dh * dh;
+            let ratio = if sigma > 1e-9 { sine / sigma } else { 1.0 };
             let image = &self.images.images[entry.image];
             let power = mul(self.lights[entry.light].power, image.reflectance);
-            *slot = luminance(power) / spread(space, length, sigma).max(floor);
+            *slot = luminance(power) / (length2 * ratio).max(floor);
             total += *slot;
         }
         total
@@ -469,7 +484,12 @@ impl Integrator {
     }
 
     /// Follows a ray through mirrors for at most `length`.
-    fn march(&self, ray: &Ray, length: f64) -> March {
+    ///
+    /// With `roulette` (a sampler and the luminance of the path's throughput so far), a path
+    /// whose throughput falls below `ROULETTE_LEVEL` after a mirror goes on with probability
+    /// ∝ its throughput and is weighted up when it does (Russian roulette: unbiased, and long
+    /// chains of dim reflections stop early).
+    fn march(&self, ray: &Ray, length: f64, mut roulette: Option<(&mut Sampler, f64)>) -> March {
         let space = self.space();
         let mut march = March {
             end: MarchEnd::Lost,
@@ -505,6 +525,16 @@ impl Integrator {
                 return march;
             };
             march.throughput = mul(march.throughput, reflectance);
+            if let Some((sampler, beta)) = roulette.as_mut() {
+                let carried = *beta * luminance(march.throughput);
+                if carried < ROULETTE_LEVEL {
+                    let survive = carried / ROULETTE_LEVEL;
+                    if survive.is_nan() || survive <= 0.0 || sampler.next_f64() >= survive {
+                        return march;
+                    }
+                    march.throughput = scale(march.throughput, 1.0 / survive);
+                }
+            }
             let form = self.tracer.room.walls[wall].form;
             march.chain *= reflection_matrix(space, form);
             march.length += near.s;
@@ -612,7 +642,7 @@ impl Integrator {
             return [0.0; 3];
         }
         let start = link.ray.advanced(space, RAY_EPSILON);
-        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON);
+        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, None);
         if march.end != MarchEnd::Reached {
             return [0.0; 3];
         }
@@ -691,7 +721,7 @@ impl Integrator {
         let mut previous = (DVec3::ZERO, 0.0);
         let mut depth = 0;
         loop {
-            let march = self.march(&ray, f64::INFINITY);
+            let march = self.march(&ray, f64::INFINITY, Some((&mut *sampler, luminance(beta))));
             beta = mul(beta, march.throughput);
             let MarchEnd::Hit(near) = march.end else {
                 break;

@@ -29,6 +29,9 @@ pub struct RenderOptions {
     pub seed: u64,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
+    /// Stop once the film's relative noise ([`Film::relative_noise`]) is at most this (checked
+    /// after every pass from the second on).
+    pub noise_target: Option<f64>,
 }
 
 /// What a render did.
@@ -40,7 +43,7 @@ pub struct Rendered {
     pub samples: u32,
     /// Wall-clock time.
     pub elapsed: Duration,
-    /// Whether it stopped before taking every sample (time limit or cancellation).
+    /// Whether it stopped before taking every sample (time limit, noise target or cancellation).
     pub stopped_early: bool,
 }
 
@@ -54,7 +57,7 @@ pub struct Rendered {
 /// let scene = orbifold_scene::Scene::default();
 /// let integrator = Integrator::from_scene(&scene, None, Settings::default())?;
 /// let camera = Camera::new(integrator.space(), &scene.camera);
-/// let options = RenderOptions { width: 8, height: 6, samples: 2, seed: 1, time_limit: None };
+/// let options = RenderOptions { width: 8, height: 6, samples: 2, seed: 1, time_limit: None, noise_target: None };
 /// let image = render(&integrator, &camera, &options, &AtomicBool::new(false), &|_, _| {});
 /// assert_eq!(image.samples, 2);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -94,7 +97,11 @@ pub fn render(
         done += 1;
         progress(done, options.samples);
         let out_of_time = options.time_limit.is_some_and(|t| start.elapsed() >= t);
-        if cancel.load(Ordering::Relaxed) || out_of_time {
+        let quiet = done >= 2
+            && options
+                .noise_target
+                .is_some_and(|t| film.relative_noise() <= t);
+        if cancel.load(Ordering::Relaxed) || out_of_time || quiet {
             break;
         }
     }

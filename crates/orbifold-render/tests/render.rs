@@ -60,6 +60,7 @@ fn image(scene: &Scene, nee: bool, samples: u32, seed: u64) -> Film {
         samples,
         seed,
         time_limit: None,
+        noise_target: None,
     };
     render(
         &integrator,

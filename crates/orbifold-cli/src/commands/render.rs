@@ -28,6 +28,26 @@ struct Summary {
     stopped_early: bool,
     relative_noise: f64,
     dropped_samples: u64,
+    exposure: f64,
+}
+
+/// Exposure (stops) that takes the image's log-average luminance to middle grey (Reinhard's
+/// key 0.18), within ±12 stops; 0 for a black image.
+fn auto_exposure(film: &orbifold_render::film::Film) -> f64 {
+    let (mut sum, mut count) = (0.0, 0.0);
+    for y in 0..film.height() {
+        for x in 0..film.width() {
+            let l = orbifold_render::film::luminance(film.pixel(x, y));
+            if l.is_finite() && l > 0.0 {
+                sum += (1e-4 + l).ln();
+                count += 1.0;
+            }
+        }
+    }
+    if count == 0.0 {
+        return 0.0;
+    }
+    (0.18 / (sum / count).exp()).log2().clamp(-12.0, 12.0)
 }
 
 /// The scene to render: a file, the default room of a signature, or the built-in default.
@@ -75,6 +95,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             "--time-limit {t}: expected a positive number of seconds"
         )));
     }
+    if let Some(x) = args.noise_target
+        && !(x.is_finite() && x > 0.0)
+    {
+        return Err(CliError::Input(format!(
+            "--noise-target {x}: expected a positive number such as 0.02"
+        )));
+    }
     let (scene, base) = load(args.input.as_deref())?;
     let settings = Settings {
         max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
@@ -92,6 +119,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         samples: args.spp.unwrap_or(scene.render.samples).max(1),
         seed: args.seed,
         time_limit: args.time_limit.map(Duration::from_secs_f64),
+        noise_target: args.noise_target,
     };
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -121,7 +149,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         })
     });
     bar.finish_and_clear();
-    let exposure = args.exposure;
+    let exposure = args
+        .exposure
+        .unwrap_or_else(|| auto_exposure(&rendered.film));
     rendered
         .film
         .write(&args.output, exposure)
@@ -136,6 +166,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         stopped_early: rendered.stopped_early,
         relative_noise: rendered.film.relative_noise(),
         dropped_samples: rendered.film.dropped(),
+        exposure,
     };
     let mut out = output::stdout();
     if args.json {

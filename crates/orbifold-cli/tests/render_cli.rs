@@ -1,0 +1,139 @@
+//! `orbifold render` as a process: images of the right size in PNG and EXR, the same image for
+//! the same seed, the time limit, and clear errors with exit code 2 and no file left behind.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use serde_json::Value;
+
+fn orbifold() -> Command {
+    Command::cargo_bin("orbifold").unwrap()
+}
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes")
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("orbifold-render-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn render(args: &[&str]) -> Value {
+    let out = orbifold()
+        .arg("render")
+        .args(args)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn renders_the_default_scene_to_png() {
+    let png = temp("default.png");
+    let summary = render(&["-o", png.to_str().unwrap(), "--size", "24x16", "--spp", "2"]);
+    assert_eq!(summary["width"], 24);
+    assert_eq!(summary["samples"], 2);
+    assert_eq!(summary["dropped_samples"], 0);
+    let image = image::open(&png).unwrap();
+    assert_eq!((image.width(), image.height()), (24, 16));
+    // Not a black picture: the figure, the floor and the light's images are lit.
+    assert!(
+        image
+            .to_rgb8()
+            .pixels()
+            .any(|p| p.0.iter().any(|&c| c > 20))
+    );
+}
+
+#[test]
+fn a_scene_file_renders_to_exr_and_a_seed_repeats() {
+    let scene = scenes().join("fig-1.2-333.toml");
+    let a = temp("a.exr");
+    let b = temp("b.exr");
+    for path in [&a, &b] {
+        render(&[
+            scene.to_str().unwrap(),
+            "-o",
+            path.to_str().unwrap(),
+            "--size",
+            "16x12",
+            "--spp",
+            "2",
+            "--seed",
+            "7",
+            "--threads",
+            "1",
+        ]);
+    }
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    let image = exr::prelude::read_first_rgba_layer_from_file(
+        &a,
+        |resolution, _| vec![[0f32; 3]; resolution.width() * resolution.height()],
+        |pixels: &mut Vec<[f32; 3]>, position, (r, g, b, _): (f32, f32, f32, f32)| {
+            pixels[position.y() * 16 + position.x()] = [r, g, b];
+        },
+    )
+    .unwrap();
+    let pixels = &image.layer_data.channel_data.pixels;
+    assert_eq!(pixels.len(), 16 * 12);
+    assert!(
+        pixels
+            .iter()
+            .all(|p| p.iter().all(|c| c.is_finite() && *c >= 0.0))
+    );
+    assert!(pixels.iter().any(|p| p[1] > 0.0));
+}
+
+#[test]
+fn a_signature_and_the_time_limit() {
+    let png = temp("sig.png");
+    let summary = render(&[
+        "*2223",
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "8x8",
+        "--spp",
+        "100000",
+        "--time-limit",
+        "0.2",
+    ]);
+    assert_eq!(summary["stopped_early"], true);
+    assert!(summary["samples"].as_u64().unwrap() < 100000);
+    assert!(png.exists());
+}
+
+#[test]
+fn bad_input_is_a_clear_error_and_writes_nothing() {
+    let out = temp("never.png");
+    for (args, message) in [
+        (vec!["*23"], "bad orbifold"),
+        (vec!["*2223", "-o", "x.bmp"], ".png or .exr"),
+        (vec!["*2223", "--size", "0x10"], "between 1 and 16384"),
+        (
+            vec!["*2223", "--time-limit", "-1"],
+            "positive number of seconds",
+        ),
+        (vec!["missing.toml"], "missing.toml"),
+    ] {
+        let mut command = orbifold();
+        command.arg("render").args(&args);
+        if !args.contains(&"-o") {
+            command.args(["-o", out.to_str().unwrap()]);
+        }
+        command
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(message));
+    }
+    assert!(!out.exists());
+}
