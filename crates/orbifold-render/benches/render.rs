@@ -1,0 +1,60 @@
+//! Benchmarks of the renderer. Run with `cargo bench -p orbifold-render --bench render`.
+//!
+//! One pass (one path per pixel) of a 64×48 image from the scene's camera, all threads: the
+//! built-in default room `*22222` (H²×R, every wall a mirror of reflectance 0.9, a figure and a
+//! point light), and the default rooms of a spherical and a Euclidean orbifold.
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
+use std::sync::atomic::AtomicBool;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use orbifold_render::camera::Camera;
+use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::render::{RenderOptions, render};
+use orbifold_scene::Scene;
+
+fn default_room(signature: &str) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    let layout = scene.layout().unwrap();
+    let centre = [layout.centre.re, layout.centre.im];
+    scene.objects.iter_mut().for_each(|o| o.at = centre);
+    scene.lights.iter_mut().for_each(|l| l.at = centre);
+    // Three quarters of the way to the wall on the −x side, as `orbifold scene new` does.
+    scene.camera.at = [centre[0] - 0.15, centre[1]];
+    scene
+}
+
+fn passes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    group.sample_size(10);
+    for signature in ["*22222", "*235", "*333"] {
+        let scene = default_room(signature);
+        let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let options = RenderOptions {
+            width: 64,
+            height: 48,
+            samples: 1,
+            seed: 1,
+            time_limit: None,
+            noise_target: None,
+        };
+        group.throughput(Throughput::Elements(64 * 48));
+        group.bench_function(format!("pass 64x48 {signature}"), |b| {
+            b.iter(|| {
+                render(
+                    &integrator,
+                    &camera,
+                    &options,
+                    &AtomicBool::new(false),
+                    &|_, _| {},
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, passes);
+criterion_main!(benches);
