@@ -108,6 +108,10 @@ pub struct RenderArgs {
     /// Brute-force path tracing: no light sampling (point and spot lights then give no light).
     #[arg(long)]
     pub no_nee: bool,
+    /// Radiance that every surface but mirrors and lights emits, uniformly (default 0): a soft
+    /// glow that shows the room's shape even without lights.
+    #[arg(long, value_name = "RADIANCE", allow_hyphen_values = true)]
+    pub glow: Option<f64>,
     /// Exposure in stops for the PNG's tone mapping (default: automatic, the image's
     /// log-average luminance to middle grey 0.18).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]

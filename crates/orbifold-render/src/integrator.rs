@@ -15,9 +15,10 @@
 use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 use orbifold::space::Space;
-use orbifold_scene::{Coordinates, Material, Scene};
+use orbifold_scene::geometry::representative;
+use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, marble};
 use crate::geodesic::Ray;
 use crate::light::{
     Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
@@ -44,6 +45,11 @@ pub struct Settings {
     /// Next-event estimation (light sampling through mirror images) with MIS; without it, light
     /// is found only by paths that hit it (brute force, the reference for tests).
     pub nee: bool,
+    /// Radiance that every opaque surface other than a mirror or a light emits, uniformly in every
+    /// direction (0 by default). A closed room whose surfaces all glow and reflect with albedo
+    /// ρ reaches the radiance glow / (1 − ρ) everywhere (the furnace test); a small glow also
+    /// shows the room's shape without any lights.
+    pub glow: Rgb,
 }
 
 impl Default for Settings {
@@ -51,6 +57,7 @@ impl Default for Settings {
         Settings {
             max_depth: 8,
             nee: true,
+            glow: [0.0; 3],
         }
     }
 }
@@ -117,12 +124,14 @@ impl Texture {
                     intrinsic: *coordinates == Coordinates::Intrinsic,
                 }
             }
+            // Not a pattern (`Look` handles these): the colour that stands for it.
+            other => Texture::Solid(representative(other)),
         })
     }
 
     /// The albedo at surface coordinates (u, v, w) (model or intrinsic as chosen by the caller
     /// through `model` and `intrinsic`).
-    fn albedo(&self, model: [f64; 3], intrinsic: [f64; 3]) -> Rgb {
+    fn albedo(&self, model: [f64; 3], intrinsic: impl FnOnce() -> [f64; 3]) -> Rgb {
         match self {
             Texture::Solid(c) => *c,
             Texture::Checker {
@@ -130,7 +139,7 @@ impl Texture {
                 size,
                 intrinsic: use_intrinsic,
             } => {
-                let p = if *use_intrinsic { intrinsic } else { model };
+                let p = if *use_intrinsic { intrinsic() } else { model };
                 let parity: i64 = p.iter().map(|v| (v / size).floor() as i64).sum();
                 colors[parity.rem_euclid(2) as usize]
             }
@@ -141,12 +150,74 @@ impl Texture {
                 scale,
                 intrinsic: use_intrinsic,
             } => {
-                let p = if *use_intrinsic { intrinsic } else { model };
+                let p = if *use_intrinsic { intrinsic() } else { model };
                 let u = (p[0] / scale).rem_euclid(1.0);
                 let v = (p[1] / scale).rem_euclid(1.0);
                 let i = ((u * *width as f64) as usize).min(width - 1);
                 let j = (((1.0 - v) * *height as f64) as usize).min(height - 1);
                 pixels[j * width + i]
+            }
+        }
+    }
+}
+
+/// A surface's material, ready to give the BSDF at a point.
+#[derive(Clone, Debug)]
+enum Look {
+    /// Lambertian with a texture.
+    Diffuse(Texture),
+    /// Anything whose BSDF is the same everywhere (glass, metal).
+    Uniform(Bsdf),
+    /// Rough plastic over a textured base.
+    Plastic(Texture, f64),
+    /// Procedural marble (diffuse): ground, vein, scale, intrinsic coordinates.
+    Marble(Rgb, Rgb, f64, bool),
+}
+
+impl Look {
+    fn new(material: &Material, base: Option<&std::path::Path>) -> Result<Look, String> {
+        Ok(match material {
+            Material::Glass { tint, ior } => Look::Uniform(Bsdf::Dielectric {
+                eta: *ior,
+                tint: *tint,
+            }),
+            Material::Metal { metal, roughness } => Look::Uniform(match metal {
+                MetalName::Silver => Bsdf::silver(*roughness),
+                MetalName::Gold => Bsdf::gold(*roughness),
+                MetalName::Copper => Bsdf::copper(*roughness),
+                MetalName::Aluminium => Bsdf::aluminium(*roughness),
+            }),
+            Material::Plastic { color, roughness } => {
+                Look::Plastic(Texture::Solid(*color), *roughness)
+            }
+            Material::Marble {
+                base: ground,
+                vein,
+                scale,
+                coordinates,
+            } => Look::Marble(
+                *ground,
+                *vein,
+                *scale,
+                *coordinates == Coordinates::Intrinsic,
+            ),
+            _ => Look::Diffuse(Texture::new(material, base)?),
+        })
+    }
+
+    /// The BSDF at a point with model coordinates `model` and intrinsic ones `intrinsic()`
+    /// (computed only when the pattern is laid out in them).
+    fn bsdf(&self, model: [f64; 3], intrinsic: impl FnOnce() -> [f64; 3]) -> Bsdf {
+        match self {
+            Look::Diffuse(texture) => Bsdf::diffuse(texture.albedo(model, intrinsic)),
+            Look::Uniform(bsdf) => *bsdf,
+            Look::Plastic(texture, roughness) => {
+                Bsdf::plastic(texture.albedo(model, intrinsic), *roughness)
+            }
+            Look::Marble(ground, vein, scale, use_intrinsic) => {
+                let p = if *use_intrinsic { intrinsic() } else { model };
+                // `marble` takes a frequency; the scene gives the features' size.
+                Bsdf::diffuse(marble(DVec3::from(p), *ground, *vein, 1.0 / scale))
             }
         }
     }
@@ -234,10 +305,10 @@ pub struct Integrator {
     distribution: Option<Distribution1d>,
     /// Indices into `entries` weighted per surface point (at most `NEAR_MAX`).
     near: Vec<usize>,
-    floor: Texture,
-    ceiling: Texture,
-    walls: Vec<Texture>,
-    objects: Vec<Texture>,
+    floor: Look,
+    ceiling: Look,
+    walls: Vec<Look>,
+    objects: Vec<Look>,
     centre: DVec3,
     centre_frame: TangentFrame,
 }
@@ -281,16 +352,16 @@ impl Integrator {
                 .unwrap_or_else(|| scene.room.wall_material.clone())
         };
         let walls = (0..tracer.room.walls.len())
-            .map(|i| Texture::new(&wall_material(i), base))
+            .map(|i| Look::new(&wall_material(i), base))
             .collect::<Result<_, _>>()?;
         let objects = scene
             .objects
             .iter()
-            .map(|o| Texture::new(&o.material, base))
+            .map(|o| Look::new(&o.material, base))
             .collect::<Result<_, _>>()?;
         let mut integrator = Integrator {
-            floor: Texture::new(&scene.room.floor, base)?,
-            ceiling: Texture::new(&scene.room.ceiling, base)?,
+            floor: Look::new(&scene.room.floor, base)?,
+            ceiling: Look::new(&scene.room.ceiling, base)?,
             walls,
             objects,
             centre,
@@ -543,8 +614,8 @@ impl Integrator {
         march
     }
 
-    /// The unit normal (local coordinates in `frame`) and the albedo where a march ended.
-    fn surface(&self, near: &Near, frame: &TangentFrame) -> Option<(DVec3, Rgb)> {
+    /// The unit normal (local coordinates in `frame`) and the BSDF where a march ended.
+    fn surface(&self, near: &Near, frame: &TangentFrame) -> Option<(DVec3, Bsdf)> {
         let space = self.space();
         let z = space.to_model(near.point);
         let model = [z.re, z.im, near.height];
@@ -558,10 +629,10 @@ impl Integrator {
         };
         match near.struck {
             Struck::Surface(SurfaceId::Floor, _) => {
-                Some((DVec3::Z, self.floor.albedo(model, intrinsic())))
+                Some((DVec3::Z, self.floor.bsdf(model, intrinsic)))
             }
             Struck::Surface(SurfaceId::Ceiling, _) => {
-                Some((-DVec3::Z, self.ceiling.albedo(model, intrinsic())))
+                Some((-DVec3::Z, self.ceiling.bsdf(model, intrinsic)))
             }
             Struck::Surface(SurfaceId::Wall(w), _) => {
                 let room = &self.tracer.room;
@@ -571,7 +642,7 @@ impl Integrator {
                     .try_normalize()?;
                 let along = room.along(w, near.point) * room.walls[w].length;
                 let wall = [along, near.height, 0.0];
-                Some((n, self.walls[w].albedo(wall, wall)))
+                Some((n, self.walls[w].bsdf(wall, || wall)))
             }
             Struck::Surface(SurfaceId::Object(i), triangle) => {
                 let (triangle, barycentric) = triangle?;
@@ -583,7 +654,7 @@ impl Integrator {
                 let instance = &self.tracer.objects.instances()[i];
                 let (h, v) = instance.normal(space, &hit)?;
                 let n = frame.to_local(space, h, v).try_normalize()?;
-                Some((n, self.objects[i].albedo(model, intrinsic())))
+                Some((n, self.objects[i].bsdf(model, intrinsic)))
             }
             Struck::Light(..) => None,
         }
@@ -744,18 +815,21 @@ impl Integrator {
                 add(&mut radiance, scale(mul(beta, emitted), weight));
                 break;
             }
-            let Some((normal, albedo)) = self.surface(&near, &frame) else {
+            let Some((normal, bsdf)) = self.surface(&near, &frame) else {
                 break;
             };
-            // Surfaces are two-sided: face the normal towards where the path came from.
+            if !bsdf.is_transmissive() {
+                add(&mut radiance, mul(beta, self.settings.glow));
+            }
+            // Opaque surfaces are two-sided: face the normal towards where the path came from.
+            // A dielectric keeps its outward normal: which side the path is on matters.
             let wo = -travel;
-            let normal = if normal.dot(wo) < 0.0 {
+            let normal = if normal.dot(wo) < 0.0 && !bsdf.is_transmissive() {
                 -normal
             } else {
                 normal
             };
             let shading = Frame::from_normal(normal);
-            let bsdf = Bsdf::Diffuse { albedo };
             // As in pbrt: a path has at most max_depth scattering vertices, whether its last
             // segment to the light comes from light sampling or from a hit.
             if depth == self.settings.max_depth {

@@ -51,7 +51,11 @@ fn scene(signature: &str, light: LightKind) -> Scene {
 }
 
 fn image(scene: &Scene, nee: bool, samples: u32, seed: u64) -> Film {
-    let settings = Settings { max_depth: 3, nee };
+    let settings = Settings {
+        max_depth: 3,
+        nee,
+        ..Settings::default()
+    };
     let integrator = Integrator::from_scene(scene, None, settings).unwrap();
     let camera = Camera::new(integrator.space(), &scene.camera);
     let options = RenderOptions {

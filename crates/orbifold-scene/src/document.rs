@@ -212,6 +212,92 @@ pub enum Material {
         #[serde(default)]
         coordinates: Coordinates,
     },
+    /// Smooth glass (a dielectric): Fresnel reflection and refraction. Closed objects only;
+    /// their triangles' normals point out.
+    Glass {
+        /// The colour that light passing through takes (1 = clear).
+        #[serde(default = "clear")]
+        tint: Color,
+        /// Index of refraction, inside over outside (1.5 for glass, 1.33 for water).
+        #[serde(default = "glass_index")]
+        ior: f64,
+    },
+    /// A metal: a conductor's Fresnel reflectance over a GGX microfacet surface.
+    Metal {
+        /// Which metal.
+        #[serde(default)]
+        metal: MetalName,
+        /// GGX roughness α in [0, 1]: 0 is a polished mirror, 0.3 brushed, 1 very dull.
+        #[serde(default = "metal_roughness")]
+        roughness: f64,
+    },
+    /// Plastic: a glossy dielectric coat (GGX) over a coloured diffuse base.
+    Plastic {
+        /// The base colour.
+        color: Color,
+        /// GGX roughness α of the coat in [0, 1].
+        #[serde(default = "plastic_roughness")]
+        roughness: f64,
+    },
+    /// Procedural marble: veins of one colour in a ground of another (Perlin turbulence), laid
+    /// out in the chosen coordinates.
+    Marble {
+        /// The ground colour.
+        #[serde(default = "marble_base")]
+        base: Color,
+        /// The veins' colour.
+        #[serde(default = "marble_vein")]
+        vein: Color,
+        /// The size of the pattern's features.
+        #[serde(default = "marble_scale")]
+        scale: f64,
+        /// Model or intrinsic coordinates.
+        #[serde(default)]
+        coordinates: Coordinates,
+    },
+}
+
+/// The metals of [`Material::Metal`], with measured complex indices of refraction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum MetalName {
+    /// Silver.
+    #[default]
+    Silver,
+    /// Gold.
+    Gold,
+    /// Copper.
+    Copper,
+    /// Aluminium.
+    Aluminium,
+}
+
+fn clear() -> Color {
+    [1.0; 3]
+}
+
+fn glass_index() -> f64 {
+    1.5
+}
+
+fn metal_roughness() -> f64 {
+    0.1
+}
+
+fn plastic_roughness() -> f64 {
+    0.2
+}
+
+fn marble_base() -> Color {
+    [0.92, 0.9, 0.86]
+}
+
+fn marble_vein() -> Color {
+    [0.25, 0.27, 0.32]
+}
+
+fn marble_scale() -> f64 {
+    0.3
 }
 
 /// Where a pattern is laid out.

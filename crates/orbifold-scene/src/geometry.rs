@@ -12,7 +12,7 @@ use orbifold::embed::{Placement, centre_of_mass, embed, place};
 use orbifold::room::wall::WallRect;
 use orbifold::room::{FloorMethod, RoomMesher, RoomOptions, Surface};
 
-use crate::document::{Color, Material, Mirror, MirrorDefault, Scene, Tessellation};
+use crate::document::{Color, Material, MetalName, Mirror, MirrorDefault, Scene, Tessellation};
 use crate::mesh::TriangleMesh;
 use crate::mesh::import::load_mesh;
 use crate::mesh::procedural::builtin;
@@ -292,6 +292,15 @@ pub fn representative(material: &Material) -> Color {
         Material::Color { color } => *color,
         Material::Checker { colors, .. } => [0, 1, 2].map(|k| 0.5 * (colors[0][k] + colors[1][k])),
         Material::Texture { .. } => [0.8; 3],
+        Material::Glass { tint, .. } => tint.map(|c| 0.9 * c),
+        Material::Metal { metal, .. } => match metal {
+            MetalName::Silver => [0.95, 0.93, 0.88],
+            MetalName::Gold => [1.0, 0.78, 0.34],
+            MetalName::Copper => [0.95, 0.64, 0.54],
+            MetalName::Aluminium => [0.91, 0.92, 0.92],
+        },
+        Material::Plastic { color, .. } => *color,
+        Material::Marble { base, vein, .. } => [0, 1, 2].map(|k| 0.8 * base[k] + 0.2 * vein[k]),
     }
 }
 

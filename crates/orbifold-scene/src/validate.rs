@@ -71,9 +71,9 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
         height = f64::INFINITY;
     }
     unit_color(&mut p, "room.reflectance", &room.reflectance);
-    material(&mut p, "room.wall_material", &room.wall_material, base);
-    material(&mut p, "room.floor", &room.floor, base);
-    material(&mut p, "room.ceiling", &room.ceiling, base);
+    room_material(&mut p, "room.wall_material", &room.wall_material, base);
+    room_material(&mut p, "room.floor", &room.floor, base);
+    room_material(&mut p, "room.ceiling", &room.ceiling, base);
     positive(&mut p, "room.resolution", room.resolution);
     if let Some(d) = room.cusp_distance {
         positive(&mut p, "room.cusp_distance", d);
@@ -227,7 +227,7 @@ fn walls(p: &mut Problems, scene: &Scene, layout: Option<&Layout>) {
             ));
         }
         if let Some(m) = &w.material {
-            material(p, &format!("{key}.material"), m, None);
+            room_material(p, &format!("{key}.material"), m, None);
         }
         for (j, m) in w.mirrors.iter().enumerate() {
             let key = format!("{key}.mirrors[{j}]");
@@ -329,6 +329,17 @@ fn file_exists(p: &mut Problems, key: &str, name: &str, base: Option<&Path>) {
     }
 }
 
+/// A room surface is one side of the room's boundary: light cannot pass through it.
+fn room_material(p: &mut Problems, key: &str, m: &Material, base: Option<&Path>) {
+    if matches!(m, Material::Glass { .. }) {
+        p.push((
+            key.into(),
+            "glass is for objects: a room's walls, floor and ceiling are opaque".into(),
+        ));
+    }
+    material(p, key, m, base);
+}
+
 fn material(p: &mut Problems, key: &str, m: &Material, base: Option<&Path>) {
     match m {
         Material::Color { color } => unit_color(p, &format!("{key}.color"), color),
@@ -339,6 +350,48 @@ fn material(p: &mut Problems, key: &str, m: &Material, base: Option<&Path>) {
         }
         Material::Texture { path, scale, .. } => {
             file_exists(p, &format!("{key}.path"), path, base);
+            positive(p, &format!("{key}.scale"), *scale);
+        }
+        Material::Glass { tint, ior } => {
+            unit_color(p, &format!("{key}.tint"), tint);
+            range(
+                p,
+                &format!("{key}.ior"),
+                *ior,
+                1.0,
+                4.0,
+                "index of refraction",
+            );
+        }
+        Material::Metal { roughness, .. } => {
+            range(
+                p,
+                &format!("{key}.roughness"),
+                *roughness,
+                0.0,
+                1.0,
+                "GGX α",
+            );
+        }
+        Material::Plastic { color, roughness } => {
+            unit_color(p, &format!("{key}.color"), color);
+            range(
+                p,
+                &format!("{key}.roughness"),
+                *roughness,
+                0.0,
+                1.0,
+                "GGX α",
+            );
+        }
+        Material::Marble {
+            base: ground,
+            vein,
+            scale,
+            ..
+        } => {
+            unit_color(p, &format!("{key}.base"), ground);
+            unit_color(p, &format!("{key}.vein"), vein);
             positive(p, &format!("{key}.scale"), *scale);
         }
     }

@@ -52,6 +52,55 @@ fn range_errors_name_the_key_and_line() {
 }
 
 #[test]
+fn material_problems() {
+    let text = r#"
+[room]
+floor = { kind = "glass" }
+ceiling = { kind = "marble", scale = -1 }
+
+[[objects]]
+material = { kind = "metal", metal = "gold", roughness = 1.5 }
+
+[[objects]]
+material = { kind = "glass", ior = 0.5, tint = [1.0, 1.0, 2.0] }
+
+[[objects]]
+material = { kind = "plastic", color = [0.5, 0.5, 0.5], roughness = -0.1 }
+
+[[objects]]
+material = { kind = "metal", metal = "tin" }
+"#;
+    let e = errors(text);
+    // The unknown metal is a syntax-level error; it comes alone.
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(e[0].0.map(|p| p.0), Some(16), "{e:?}");
+    assert!(e[0].2.contains("tin"), "{e:?}");
+    let text = text.replace("metal = \"tin\"", "metal = \"copper\"");
+    let e = errors(&text);
+    let keys: Vec<(String, usize)> = e
+        .iter()
+        .map(|x| (x.1.clone().unwrap(), x.0.unwrap().0))
+        .collect();
+    for (key, line) in [
+        ("room.floor", 3),
+        ("room.ceiling.scale", 4),
+        ("objects[0].material.roughness", 7),
+        ("objects[1].material.ior", 10),
+        ("objects[1].material.tint", 10),
+        ("objects[2].material.roughness", 13),
+    ] {
+        assert!(
+            keys.contains(&(key.to_string(), line)),
+            "{key} at line {line} not in {keys:?}"
+        );
+    }
+    assert!(
+        e.iter().any(|x| x.2.contains("glass is for objects")),
+        "{e:?}"
+    );
+}
+
+#[test]
 fn orbifold_problems() {
     let e = errors("[orbifold]\nsignature = \"*23\"\n");
     assert_eq!(e[0].1.as_deref(), Some("orbifold.signature"));

@@ -102,10 +102,18 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             "--noise-target {x}: expected a positive number such as 0.02"
         )));
     }
+    if let Some(g) = args.glow
+        && !(g.is_finite() && g >= 0.0)
+    {
+        return Err(CliError::Input(format!(
+            "--glow {g}: expected a radiance of 0 or more, such as 0.2"
+        )));
+    }
     let (scene, base) = load(args.input.as_deref())?;
     let settings = Settings {
         max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
         nee: !args.no_nee,
+        glow: [args.glow.unwrap_or(0.0); 3],
     };
     let integrator =
         Integrator::from_scene(&scene, base.as_deref(), settings).map_err(CliError::Input)?;

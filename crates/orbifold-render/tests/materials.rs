@@ -1,0 +1,253 @@
+//! Materials and energy balance: the furnace test in rooms of S²×R, E²×R and H²×R (with
+//! mirrors, objects and glass), outward normals of the built-in objects (glass needs them),
+//! and the geometric term integrated over the floor against the solid angle it covers.
+
+use std::f64::consts::{PI, TAU};
+use std::sync::atomic::AtomicBool;
+
+use orbifold::Geometry;
+use orbifold::space::Space;
+use orbifold_render::camera::Camera;
+use orbifold_render::film::Film;
+use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::light::{TangentFrame, connect, spread, travel_direction};
+use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::tracer::{SurfaceId, Tracer};
+use orbifold_render::triangle::TriangleHit;
+use orbifold_scene::{Material, Mirror, MirrorDefault, Object, Scene, Wall};
+
+const ALBEDO: f64 = 0.5;
+const GLOW: f64 = 0.25;
+
+/// A closed room of `signature` whose every opaque surface is white with albedo `ALBEDO`, with
+/// a partial mirror of reflectance 1 on every wall and the default figure — or, if `extra` is
+/// not empty, those objects instead; no lights.
+fn furnace(signature: &str, extra: Vec<Object>) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    let layout = scene.layout().unwrap();
+    let c = [layout.centre.re, layout.centre.im];
+    let white = Material::Color { color: [ALBEDO; 3] };
+    scene.lights.clear();
+    scene.room.mirrors = MirrorDefault::None;
+    scene.room.wall_material = white.clone();
+    scene.room.floor = white.clone();
+    scene.room.ceiling = white.clone();
+    scene.walls = (0..layout.vertices.len())
+        .map(|i| Wall {
+            index: i,
+            material: None,
+            mirrors: vec![Mirror {
+                from: 0.1,
+                to: 0.7,
+                bottom: 0.1,
+                top: Some(0.8),
+                reflectance: [1.0; 3],
+            }],
+        })
+        .collect();
+    for object in &mut scene.objects {
+        object.at = c;
+        object.material = white.clone();
+    }
+    if !extra.is_empty() {
+        scene.objects.clear();
+    }
+    for mut object in extra {
+        object.at = [c[0] + object.at[0], c[1] + object.at[1]];
+        scene.objects.push(object);
+    }
+    scene.camera.at = [c[0] - 0.1, c[1]];
+    scene.camera.pitch = -10.0;
+    scene.camera.fov = 110.0;
+    scene
+}
+
+fn image(scene: &Scene, samples: u32) -> Film {
+    let settings = Settings {
+        max_depth: 200,
+        glow: [GLOW; 3],
+        ..Settings::default()
+    };
+    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let options = RenderOptions {
+        width: 8,
+        height: 6,
+        samples,
+        seed: 7,
+        time_limit: None,
+        noise_target: None,
+    };
+    render(
+        &integrator,
+        &camera,
+        &options,
+        &AtomicBool::new(false),
+        &|_, _| {},
+    )
+    .film
+}
+
+/// The image's mean against the equilibrium radiance glow / (1 − ρ), within 5 standard errors
+/// (pixels are independent estimates), and no pixel far from it. (In a furnace every path's
+/// weight depends only on how many bounces it survives, so a lost path — one that slips out
+/// of the room or ends early — is what would show.)
+fn assert_equilibrium(film: &Film, what: &str) {
+    let expected = GLOW / (1.0 - ALBEDO);
+    let n = f64::from(film.width() * film.height());
+    let (mut mean, mut variance) = (0.0, 0.0);
+    for y in 0..film.height() {
+        for x in 0..film.width() {
+            let value = film.pixel(x, y);
+            assert!(
+                value.iter().all(|v| (v - expected).abs() < 0.3 * expected),
+                "{what}: pixel ({x}, {y}) = {value:?}, expected {expected}"
+            );
+            mean += value[1] / n;
+            variance += film.standard_error(x, y).powi(2) / (n * n);
+        }
+    }
+    let error = variance.sqrt();
+    assert!(
+        (mean - expected).abs() < 5.0 * error + 1e-3 * expected,
+        "{what}: mean {mean} ± {error}, expected {expected}"
+    );
+}
+
+#[test]
+fn furnace_reaches_the_analytic_equilibrium() {
+    // Mirrors of reflectance 1 neither absorb nor emit, so the equilibrium holds through them.
+    for signature in ["*235", "*2222", "*2223", "*∞∞∞"] {
+        let film = image(&furnace(signature, Vec::new()), 48);
+        assert_equilibrium(&film, signature);
+    }
+}
+
+#[test]
+fn clear_glass_in_the_furnace_changes_nothing() {
+    // A clear dielectric neither absorbs nor emits: with radiance scaled by 1/η² on the way in
+    // and η² on the way out, the furnace stays at its equilibrium behind and inside the glass.
+    // (Nothing opaque may touch the glass: a white surface inside it would glow at the
+    // outside's radiance, not n² times it.)
+    for signature in ["*235", "*333", "*2223"] {
+        let glass = Object {
+            shape: "sphere".into(),
+            // 0.2 ahead of the camera, filling much of its view.
+            at: [0.1, 0.0],
+            height: 0.3,
+            size: 0.25,
+            material: Material::Glass {
+                tint: [1.0; 3],
+                ior: 1.5,
+            },
+            ..Object::default()
+        };
+        let film = image(&furnace(signature, vec![glass]), 48);
+        assert_equilibrium(&film, &format!("{signature} with glass"));
+    }
+}
+
+#[test]
+fn built_in_objects_have_outward_normals() {
+    // Glass tells inside from outside by the normal: rays from outside towards an object must
+    // meet it against its normal.
+    for shape in ["sphere", "torus", "cube", "figure", "letter-p", "letter-f"] {
+        for signature in ["*235", "*333", "*2223"] {
+            let mut scene = Scene::default();
+            scene.orbifold.signature = signature.into();
+            let layout = scene.layout().unwrap();
+            let centre = layout.centre;
+            scene.objects.truncate(1);
+            let object = &mut scene.objects[0];
+            object.shape = shape.into();
+            object.at = [centre.re, centre.im];
+            object.height = 0.2;
+            object.size = 0.3;
+            let tracer = Tracer::from_scene(&scene, None).unwrap();
+            let space = tracer.space();
+            let target = space.to_ambient(centre);
+            let mut hits = 0;
+            for k in 0..24 {
+                let angle = TAU * f64::from(k) / 24.0;
+                let from = centre + 0.3 * num_complex::Complex64::from_polar(0.4, angle);
+                let x = space.to_ambient(from);
+                let frame = TangentFrame::at(space, x);
+                let aim = 0.2 + 0.15 * f64::from(k % 3);
+                let link = connect(space, &frame, (x, 0.35), (target, aim), false).unwrap();
+                let Some(hit) = tracer.nearest(&link.ray) else {
+                    continue;
+                };
+                let (SurfaceId::Object(i), Some((triangle, barycentric))) =
+                    (hit.surface, hit.triangle)
+                else {
+                    continue;
+                };
+                let instance = &tracer.objects.instances()[i];
+                let t = TriangleHit {
+                    s: hit.s,
+                    triangle,
+                    barycentric,
+                };
+                let (n, up) = instance.normal(space, &t).unwrap();
+                let at_hit = TangentFrame::at(space, hit.point);
+                let normal = at_hit.to_local(space, n, up);
+                let travel = travel_direction(space, &at_hit, &link.ray, hit.s);
+                assert!(
+                    normal.dot(travel) < 0.0,
+                    "{shape} in {signature}: ray {k} meets the object along its normal"
+                );
+                hits += 1;
+            }
+            // (Rays aimed at a torus's centre can pass through its hole.)
+            assert!(hits >= 6, "{shape} in {signature}: only {hits} hits");
+        }
+    }
+}
+
+/// Simpson's rule on [a, b] with n (even) intervals.
+fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+    let step = (b - a) / n as f64;
+    let inner: f64 = (1..n)
+        .map(|i| {
+            let weight = if i % 2 == 1 { 4.0 } else { 2.0 };
+            weight * f(a + step * i as f64)
+        })
+        .sum();
+    (f(a) + inner + f(b)) * step / 3.0
+}
+
+#[test]
+fn geometric_term_integrates_to_the_solid_angle_it_covers() {
+    // The light that a point at height h sees from the floor within intrinsic distance σ_max:
+    // ∫ cos θ_floor / J(ℓ, σ) dA over the disc, with dA = S_κ(σ) dσ dφ and cos θ_floor = h / ℓ,
+    // must be the solid angle of the directions that reach the floor before σ_max,
+    // 2π (1 − h / √(σ_max² + h²)) — whatever the curvature.
+    for geometry in [
+        Geometry::Spherical,
+        Geometry::Euclidean,
+        Geometry::Hyperbolic,
+    ] {
+        let space = Space::new(geometry);
+        for h in [0.05, 0.5, 2.0] {
+            let reach: &[f64] = if geometry == Geometry::Spherical {
+                &[0.3, 1.5, PI - 1e-9]
+            } else {
+                &[0.3, 1.5, 6.0]
+            };
+            for &sigma_max in reach {
+                let integrand = |sigma: f64| {
+                    let length = (sigma * sigma + h * h).sqrt();
+                    let area = if sigma == 0.0 { 0.0 } else { space.sin(sigma) };
+                    TAU * (h / length) * area / spread(space, length, sigma)
+                };
+                let integral = simpson(integrand, 0.0, sigma_max, 20_000);
+                let expected = TAU * (1.0 - h / (sigma_max * sigma_max + h * h).sqrt());
+                assert!(
+                    (integral - expected).abs() < 1e-6 * TAU,
+                    "{geometry:?} h {h} σ {sigma_max}: {integral} against {expected}"
+                );
+            }
+        }
+    }
+}
