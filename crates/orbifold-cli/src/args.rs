@@ -80,7 +80,8 @@ pub struct RenderArgs {
     /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
-    /// The image to write: `.png` (tone-mapped, 8-bit sRGB) or `.exr` (linear HDR).
+    /// The image to write: `.png` (tone-mapped, 8-bit sRGB), `.jpg` (the same, smaller) or
+    /// `.exr` (linear HDR).
     #[arg(short, long, value_name = "FILE", default_value = "render.png")]
     pub output: std::path::PathBuf,
     /// Image size (default: the scene's `[render]` size).

@@ -421,8 +421,36 @@ impl Film {
         Ok(out)
     }
 
+    /// The film as a tone-mapped 8-bit sRGB JPEG of the given quality (1 to 100) in memory:
+    /// small files for galleries and web pages.
+    ///
+    /// ```
+    /// use orbifold_render::film::Film;
+    ///
+    /// let mut film = Film::new(3, 2);
+    /// film.add(2, 1, [1.0; 3]);
+    /// let bytes = film.to_jpeg_bytes(0.0, 90).unwrap();
+    /// assert_eq!(&bytes[..2], b"\xff\xd8");
+    /// ```
+    pub fn to_jpeg_bytes(&self, exposure: f64, quality: u8) -> Result<Vec<u8>, String> {
+        let data: Vec<u8> = (0..self.count.len())
+            .flat_map(|i| tone_map(self.mean_at(i), exposure))
+            .collect();
+        let mut out = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
+            .write_image(
+                &data,
+                self.width,
+                self.height,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| format!("cannot encode the JPEG image: {e}"))?;
+        Ok(out)
+    }
+
     /// Writes the film to `path`: OpenEXR ([`Film::to_exr_bytes`]) for the extension `.exr`,
-    /// PNG ([`Film::to_png_bytes`] at `exposure` stops) for `.png` (either in any letter case).
+    /// PNG ([`Film::to_png_bytes`] at `exposure` stops) for `.png`, JPEG of quality 90
+    /// ([`Film::to_jpeg_bytes`]) for `.jpg` or `.jpeg` (in any letter case).
     /// Any other extension, or none, is an error that names it. The file is written
     /// atomically: the bytes go to a new temporary file in the same directory, which is synced
     /// and then renamed over `path`, so `path` never holds a partial image; the temporary file
@@ -446,15 +474,16 @@ impl Film {
         let bytes = match extension.as_deref().map(str::to_ascii_lowercase).as_deref() {
             Some("exr") => self.to_exr_bytes()?,
             Some("png") => self.to_png_bytes(exposure)?,
+            Some("jpg" | "jpeg") => self.to_jpeg_bytes(exposure, 90)?,
             Some(_) => {
                 return Err(format!(
-                    "unsupported image extension \".{}\" (use .exr or .png)",
+                    "unsupported image extension \".{}\" (use .exr, .png or .jpg)",
                     extension.unwrap_or_default()
                 ));
             }
             None => {
                 return Err(format!(
-                    "{} has no extension (use .exr or .png)",
+                    "{} has no extension (use .exr, .png or .jpg)",
                     path.display()
                 ));
             }

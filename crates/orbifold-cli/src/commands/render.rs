@@ -82,9 +82,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    if !matches!(extension.as_deref(), Some("png" | "exr")) {
+    if !matches!(extension.as_deref(), Some("png" | "exr" | "jpg" | "jpeg")) {
         return Err(CliError::Input(format!(
-            "cannot write {}: the output must end in .png or .exr",
+            "cannot write {}: the output must end in .png, .exr or .jpg",
             args.output.display()
         )));
     }
