@@ -57,6 +57,11 @@ pub enum Command {
     /// path tracing with light sampled through mirror images. Writes PNG (tone-mapped) or EXR.
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
+    /// Render the frames of an animation: the camera (or an object) walking along the walls,
+    /// orbiting the room's centre, turning on the spot, or following keyframes. Frames can be
+    /// rendered in slices on many machines; existing frames are skipped.
+    #[command(after_help = ANIMATE_EXAMPLES)]
+    Animate(AnimateArgs),
 }
 
 const RENDER_EXAMPLES: &str = "\
@@ -120,6 +125,104 @@ pub struct RenderArgs {
     /// Print a summary as JSON instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+const ANIMATE_EXAMPLES: &str = "\
+Examples:
+  orbifold animate examples/scenes/fig-8.8-2233.toml --path walls -o frames/
+  orbifold animate '*333' --path orbit --count 60 --size 320x240 --spp 32 -o orbit/
+  orbifold animate scene.toml --path turn --format jpg -o pano/      # with a panorama camera
+  orbifold animate scene.toml --path keys.txt --count 200 -o frames/
+  orbifold animate scene.toml --path walls --walker figure -o avatar/
+  orbifold animate scene.toml --path walls --frames 40..59 -o frames/  # one slice of a job
+
+Paths: `walls` walks round the room along its walls facing the way it goes (the seed's Fig.
+8.7); `orbit` circles the room's centre through the camera, facing the centre; `turn` turns
+once on the spot; a FILE holds keyframes, one `x y height yaw [pitch]` per line (model
+position, degrees; `#` comments), joined by geodesics. --walker moves an object (by name or
+index) instead of the camera.
+
+Frames are FRAME-00000.png ... in the output folder, each written to a temporary file and
+renamed, and skipped when already there (unless --force): a stopped job goes on where it
+stopped, and slices (--frames A..B, inclusive, counted from 0) can run on many machines at once
+(docs/animation.md shows a Slurm array job). The exposure is the same for every frame: --exposure,
+or worked out from a small fixed render of frame 0, so every machine agrees. Ctrl-C stops after
+the frame under way without writing it.
+
+--json prints one object per line for each frame ({\"frame\", \"output\", \"skipped\",
+\"seconds\", \"samples\", \"relative_noise\"}) and a last line {\"frames\", \"rendered\",
+\"skipped\", \"seconds\", \"exposure\"}.";
+
+#[derive(Debug, Args)]
+pub struct AnimateArgs {
+    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    #[arg(value_name = "SCENE|SIG")]
+    pub input: Option<String>,
+    /// `walls`, `orbit`, `turn`, or a keyframe file.
+    #[arg(long, value_name = "walls|orbit|turn|FILE")]
+    pub path: String,
+    /// The folder to write the frames to (created if missing).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: std::path::PathBuf,
+    /// Frames in the whole animation (default: 120, or one per keyframe).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub count: Option<u32>,
+    /// Render only frames A to B (inclusive, counted from 0), or only frame A.
+    #[arg(long, value_name = "A..B", value_parser = parse_frames)]
+    pub frames: Option<(u32, u32)>,
+    /// What moves: `camera`, or an object's name or index.
+    #[arg(long, value_name = "camera|OBJECT", default_value = "camera")]
+    pub walker: String,
+    /// Image format of the frames.
+    #[arg(long, value_name = "png|jpg|exr", default_value = "png")]
+    pub format: String,
+    /// Frame size (default: the scene's `[render]` size).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Samples per pixel (default: the scene's).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub spp: Option<u32>,
+    /// Seconds per frame at most (the frame ends with the pass under way).
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub time_limit: Option<f64>,
+    /// Stop each frame once its relative noise is at most this.
+    #[arg(long, value_name = "X")]
+    pub noise_target: Option<f64>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub threads: Option<u32>,
+    /// Seed of the random numbers (the same for every frame: the noise does not flicker).
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// The most non-mirror bounces of a path (default: the scene's).
+    #[arg(long, value_name = "N")]
+    pub max_depth: Option<u32>,
+    /// Exposure in stops for every frame (default: from a small render of frame 0).
+    #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
+    pub exposure: Option<f64>,
+    /// Render frames that already exist again.
+    #[arg(long)]
+    pub force: bool,
+    /// Print a JSON line per frame and a summary line instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `A..B` or `A` (frame numbers from 0, inclusive).
+fn parse_frames(text: &str) -> Result<(u32, u32), String> {
+    let number = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("expected A..B or A with frame numbers from 0, found `{text}`"))
+    };
+    let (a, b) = match text.split_once("..") {
+        Some((a, b)) => (number(a)?, number(b.trim_start_matches('='))?),
+        None => (number(text)?, number(text)?),
+    };
+    if a > b {
+        return Err(format!("the first frame {a} comes after the last {b}"));
+    }
+    Ok((a, b))
 }
 
 const TRACE_EXAMPLES: &str = "\

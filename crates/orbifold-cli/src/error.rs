@@ -12,6 +12,8 @@ pub enum CliError {
     Io(io::Error),
     /// The reader of our output went away (for example `| head`): stop quietly.
     BrokenPipe,
+    /// The user stopped the work (Ctrl-C) before it was done (exit code 130, as a shell does).
+    Interrupted(String),
 }
 
 impl CliError {
@@ -20,6 +22,7 @@ impl CliError {
             CliError::Input(_) => 2,
             CliError::Io(_) => 1,
             CliError::BrokenPipe => 0,
+            CliError::Interrupted(_) => 130,
         }
     }
 }
@@ -49,6 +52,7 @@ impl fmt::Display for CliError {
             CliError::Input(message) => write!(f, "error: {message}"),
             CliError::Io(error) => write!(f, "error: could not write the output: {error}"),
             CliError::BrokenPipe => Ok(()),
+            CliError::Interrupted(message) => write!(f, "{message}"),
         }
     }
 }

@@ -27,6 +27,7 @@ fn main() -> ExitCode {
         Command::Room(args) => commands::room::run(&args),
         Command::Trace(args) => commands::trace::run(&args),
         Command::Render(args) => commands::render::run(&args),
+        Command::Animate(args) => commands::animate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -421,6 +421,33 @@ impl Film {
         Ok(out)
     }
 
+    /// Exposure (stops) that takes the image's log-average luminance to middle grey
+    /// (Reinhard's key 0.18), within ±12 stops; 0 for a black image.
+    ///
+    /// ```
+    /// use orbifold_render::film::Film;
+    ///
+    /// let mut film = Film::new(2, 1);
+    /// film.add(0, 0, [0.72; 3]);
+    /// film.add(1, 0, [0.72; 3]);
+    /// assert!((film.auto_exposure() + 2.0).abs() < 1e-3);
+    /// assert_eq!(Film::new(2, 2).auto_exposure(), 0.0);
+    /// ```
+    pub fn auto_exposure(&self) -> f64 {
+        let (mut sum, mut count) = (0.0, 0.0);
+        for i in 0..self.count.len() {
+            let l = luminance(self.mean_at(i));
+            if l.is_finite() && l > 0.0 {
+                sum += (1e-4 + l).ln();
+                count += 1.0;
+            }
+        }
+        if count == 0.0 {
+            return 0.0;
+        }
+        (0.18 / (sum / count).exp()).log2().clamp(-12.0, 12.0)
+    }
+
     /// The film as a tone-mapped 8-bit sRGB JPEG of the given quality (1 to 100) in memory:
     /// small files for galleries and web pages.
     ///

@@ -12,6 +12,7 @@
 //! assert_eq!(Scene::from_toml(&text, None).unwrap(), scene);
 //! ```
 
+pub mod animation;
 pub mod document;
 pub mod export;
 pub mod file;

@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod animate;
 pub mod cover;
 pub mod enumerate;
 pub mod info;

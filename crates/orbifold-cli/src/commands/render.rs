@@ -31,27 +31,8 @@ struct Summary {
     exposure: f64,
 }
 
-/// Exposure (stops) that takes the image's log-average luminance to middle grey (Reinhard's
-/// key 0.18), within ±12 stops; 0 for a black image.
-fn auto_exposure(film: &orbifold_render::film::Film) -> f64 {
-    let (mut sum, mut count) = (0.0, 0.0);
-    for y in 0..film.height() {
-        for x in 0..film.width() {
-            let l = orbifold_render::film::luminance(film.pixel(x, y));
-            if l.is_finite() && l > 0.0 {
-                sum += (1e-4 + l).ln();
-                count += 1.0;
-            }
-        }
-    }
-    if count == 0.0 {
-        return 0.0;
-    }
-    (0.18 / (sum / count).exp()).log2().clamp(-12.0, 12.0)
-}
-
 /// The scene to render: a file, the default room of a signature, or the built-in default.
-fn load(input: Option<&str>) -> Result<(Scene, Option<PathBuf>), CliError> {
+pub(crate) fn load(input: Option<&str>) -> Result<(Scene, Option<PathBuf>), CliError> {
     let Some(input) = input else {
         return Ok((Scene::default(), None));
     };
@@ -159,7 +140,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let exposure = args
         .exposure
-        .unwrap_or_else(|| auto_exposure(&rendered.film));
+        .unwrap_or_else(|| rendered.film.auto_exposure());
     rendered
         .film
         .write(&args.output, exposure)
