@@ -118,6 +118,10 @@ pub struct RenderArgs {
     /// glow that shows the room's shape even without lights.
     #[arg(long, value_name = "RADIANCE", allow_hyphen_values = true)]
     pub glow: Option<f64>,
+    /// Light as if space were flat: the room's model picture with straight rays (the seed's
+    /// Fig. 8.1a), to compare with the true geodesics.
+    #[arg(long)]
+    pub straight_rays: bool,
     /// Exposure in stops for the PNG's tone mapping (default: automatic, the image's
     /// log-average luminance to middle grey 0.18).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
@@ -197,6 +201,9 @@ pub struct AnimateArgs {
     /// The most non-mirror bounces of a path (default: the scene's).
     #[arg(long, value_name = "N")]
     pub max_depth: Option<u32>,
+    /// Light as if space were flat (see `orbifold render --help`).
+    #[arg(long)]
+    pub straight_rays: bool,
     /// Exposure in stops for every frame (default: from a small render of frame 0).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
     pub exposure: Option<f64>,

@@ -122,7 +122,7 @@ pub fn pixel(tracer: &Tracer, ray: &crate::geodesic::Ray, bounces: usize) -> Pix
         SurfaceId::Floor => [0.0, 0.0, 1.0],
         SurfaceId::Ceiling => [0.0, 0.0, -1.0],
         SurfaceId::Wall(i) => {
-            let nu = tracer.room.walls[i].form;
+            let nu = tracer.room.wall_form_at(i, hit.point);
             local(DVec3::new(nu.x, nu.y, space.kappa() * nu.z), 0.0)
         }
         SurfaceId::Object(i) => {

@@ -865,6 +865,22 @@ impl Bvh {
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
+
+    /// The mesh it was built from: ambient points, heights and triangles.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use orbifold::{Geometry, space::Space};
+    /// use orbifold_render::bvh::Bvh;
+    /// let flat = Space::new(Geometry::Euclidean);
+    /// let points = [DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.0, 1.0, 1.0)];
+    /// let bvh = Bvh::build(flat, &points, &[0.0; 3], &[[0, 1, 2]]);
+    /// let (p, h, t) = bvh.mesh();
+    /// assert_eq!((p.len(), h.len(), t), (3, 3, &[[0, 1, 2]][..]));
+    /// ```
+    pub fn mesh(&self) -> (&[DVec3], &[f64], &[[u32; 3]]) {
+        (&self.points, &self.heights, &self.triangles)
+    }
 }
 
 #[cfg(test)]

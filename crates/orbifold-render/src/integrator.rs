@@ -19,6 +19,7 @@ use orbifold_scene::geometry::representative;
 use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
 use crate::bsdf::{Bsdf, marble};
+use crate::flat::{flatten_light, flatten_tracer};
 use crate::geodesic::Ray;
 use crate::light::{
     Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
@@ -50,6 +51,9 @@ pub struct Settings {
     /// ρ reaches the radiance glow / (1 − ρ) everywhere (the furnace test); a small glow also
     /// shows the room's shape without any lights.
     pub glow: Rgb,
+    /// Light as if space were flat: the room's model picture rendered with straight rays (see
+    /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
+    pub straight_rays: bool,
 }
 
 impl Default for Settings {
@@ -58,6 +62,7 @@ impl Default for Settings {
             max_depth: 8,
             nee: true,
             glow: [0.0; 3],
+            straight_rays: false,
         }
     }
 }
@@ -338,9 +343,17 @@ impl Integrator {
         base: Option<&std::path::Path>,
         settings: Settings,
     ) -> Result<Integrator, String> {
-        let tracer = Tracer::from_scene(scene, base)?;
+        let mut tracer = Tracer::from_scene(scene, base)?;
+        let mut lights = Light::from_scene(tracer.space(), scene)?;
+        if settings.straight_rays {
+            let curved = tracer.space();
+            lights = lights
+                .iter()
+                .map(|l| flatten_light(curved, l))
+                .collect::<Result<_, _>>()?;
+            tracer = flatten_tracer(&tracer);
+        }
         let space = tracer.space();
-        let lights = Light::from_scene(space, scene)?;
         let centre = space.to_ambient(tracer.layout.centre);
         let images = ImageSet::new(&tracer.room, centre);
         let wall_material = |i: usize| {
@@ -606,7 +619,7 @@ impl Integrator {
                     march.throughput = scale(march.throughput, 1.0 / survive);
                 }
             }
-            let form = self.tracer.room.walls[wall].form;
+            let form = self.tracer.room.wall_form_at(wall, near.point);
             march.chain *= reflection_matrix(space, form);
             march.length += near.s;
             march.ray = march.ray.advanced(space, near.s).reflected(space, form);
@@ -636,7 +649,7 @@ impl Integrator {
             }
             Struck::Surface(SurfaceId::Wall(w), _) => {
                 let room = &self.tracer.room;
-                let nu = room.walls[w].form;
+                let nu = room.wall_form_at(w, near.point);
                 let n = frame
                     .to_local(space, DVec3::new(nu.x, nu.y, space.kappa() * nu.z), 0.0)
                     .try_normalize()?;

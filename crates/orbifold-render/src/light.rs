@@ -33,6 +33,7 @@ use crate::bvh::Bvh;
 use crate::geodesic::Ray;
 use crate::instance::Instance;
 use crate::room::AnalyticRoom;
+use crate::sampler::Distribution1d;
 
 /// Linear RGB.
 pub type Rgb = [f64; 3];
@@ -252,6 +253,8 @@ impl ImageSet {
             .walls
             .iter()
             .enumerate()
+            // A wall drawn as a model circle (straight rays) is no isometry's mirror.
+            .filter(|(_, w)| w.drawn_in.is_none())
             .filter_map(|(i, w)| {
                 let best = w.mirrors.iter().fold([0.0f64; 3], |acc, m| {
                     [0, 1, 2].map(|c| acc[c].max(m.reflectance[c]))
@@ -337,6 +340,8 @@ impl ImageSet {
 
 /// How a light emits.
 #[derive(Clone, Debug)]
+// A scene has a handful of lights: their size does not matter, one indirection per sample does.
+#[allow(clippy::large_enum_variant)]
 pub enum Emitter {
     /// A point emitting `intensity` (W/sr per channel) in every direction.
     Point {
@@ -358,8 +363,10 @@ pub enum Emitter {
         radiance: Rgb,
         /// The placed mesh (also hit by rays).
         instance: Instance,
-        /// Triangle areas (intrinsic, for picking one ∝ area).
+        /// Triangle areas (intrinsic).
         areas: Vec<f64>,
+        /// Picks a triangle ∝ its area.
+        pick: Distribution1d,
         /// Their total.
         total_area: f64,
         /// Emits from both sides (spheres) or only the front (rectangles).
@@ -486,6 +493,7 @@ impl Light {
             instance,
             areas,
             total_area,
+            pick,
             ..
         } = &self.emitter
         else {
@@ -496,16 +504,8 @@ impl Light {
                 triangle: None,
             });
         };
-        // Pick a triangle ∝ area (a linear scan: light meshes are small).
-        let mut target = u * total_area;
-        let mut index = areas.len() - 1;
-        for (i, a) in areas.iter().enumerate() {
-            if target < *a {
-                index = i;
-                break;
-            }
-            target -= a;
-        }
+        // Pick a triangle ∝ area (binary search: a sphere light has thousands).
+        let (index, _) = pick.sample(u);
         let root = v.0.sqrt();
         let w = [1.0 - root, root * (1.0 - v.1), root * v.1];
         let triangle = instance.bvh.triangle(index as u32);
@@ -628,28 +628,43 @@ fn area_emitter(
 ) -> Result<Emitter, String> {
     let embedded = embed(space, positions, centre, scale);
     let bvh = Bvh::build(space, &embedded.points, &embedded.heights, triangles);
-    let areas: Vec<f64> = triangles
-        .iter()
-        .map(|t| {
-            let p = t.map(|i| embedded.points[i as usize]);
-            let h = t.map(|i| embedded.heights[i as usize]);
-            0.5 * area_jacobian(space, &p, &h, [1.0 / 3.0; 3])
-        })
-        .collect();
-    let total_area: f64 = areas.iter().sum();
-    if !(total_area > 0.0 && total_area.is_finite()) {
-        return Err("the light has no area".into());
-    }
     let placement = Placement {
         at,
         height,
         yaw: 0.0,
     };
+    mesh_emitter(
+        space,
+        Instance::from_placement(space, Arc::new(bvh), &placement),
+        power,
+        two_sided,
+    )
+}
+
+/// A Lambertian emitter of total power `power` over the mesh of `instance`.
+pub(crate) fn mesh_emitter(
+    space: Space,
+    instance: Instance,
+    power: Rgb,
+    two_sided: bool,
+) -> Result<Emitter, String> {
+    let (points, heights, triangles) = instance.bvh.mesh();
+    let areas: Vec<f64> = triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| points[i as usize]);
+            let h = t.map(|i| heights[i as usize]);
+            0.5 * area_jacobian(space, &p, &h, [1.0 / 3.0; 3])
+        })
+        .collect();
+    let total_area: f64 = areas.iter().sum();
+    let pick = Distribution1d::new(&areas).ok_or("the light has no area")?;
     Ok(Emitter::Area {
         // A Lambertian emitter of area A and radiance L sends out πAL.
         radiance: power.map(|p| p / (PI * total_area)),
-        instance: Instance::from_placement(space, Arc::new(bvh), &placement),
+        instance,
         areas,
+        pick,
         total_area,
         two_sided,
     })

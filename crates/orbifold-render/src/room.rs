@@ -9,6 +9,7 @@
 //! agree) and its height.
 
 use glam::DVec3;
+use num_complex::Complex64;
 use orbifold::Layout;
 use orbifold::room::RoomMesher;
 use orbifold::space::Space;
@@ -54,6 +55,17 @@ pub struct RoomWall {
     pub closed: bool,
     /// Its mirrors; the first that covers a point wins.
     pub mirrors: Vec<MirrorRect>,
+    /// Straight-ray mode ([`AnalyticRoom::flattened`]): the curved plane whose model this wall is
+    /// drawn in. The room's own plane is then the flat one, the wall is the model curve of
+    /// `form` (a circle or a line), and `start`, `tangent` and `length` are measured in the
+    /// curved plane.
+    pub drawn_in: Option<Space>,
+}
+
+/// The model curve of the wall ν of a plane of curvature κ, −κν₃|z|² + 2(ν₁x + ν₂y) + ν₃ = 0,
+/// as a function of the model point z: positive inside the room (the same sign as ν·p).
+fn model_curve(kappa: f64, nu: DVec3, z: Complex64) -> f64 {
+    -kappa * nu.z * z.norm_sqr() + 2.0 * (nu.x * z.re + nu.y * z.im) + nu.z
 }
 
 /// What part of the room a ray met.
@@ -144,6 +156,7 @@ impl AnalyticRoom {
                     length,
                     closed,
                     mirrors: mirrors.get(i).cloned().unwrap_or_default(),
+                    drawn_in: None,
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
@@ -206,9 +219,15 @@ impl AnalyticRoom {
         }
         if ray.cos_elevation > 0.0 {
             for (i, wall) in self.walls.iter().enumerate() {
-                let a = wall.form.dot(ray.origin);
-                let b = wall.form.dot(ray.direction);
-                let Some(sigma) = line_crossing(space, a, b) else {
+                let crossing = match wall.drawn_in {
+                    None => line_crossing(
+                        space,
+                        wall.form.dot(ray.origin),
+                        wall.form.dot(ray.direction),
+                    ),
+                    Some(curved) => self.model_crossing(curved.kappa(), wall.form, ray),
+                };
+                let Some(sigma) = crossing else {
                     continue;
                 };
                 let s = sigma / ray.cos_elevation;
@@ -232,10 +251,88 @@ impl AnalyticRoom {
         })
     }
 
+    /// Straight-ray mode: the horizontal distance σ along a flat ray at which it leaves the
+    /// room across the model curve of the curved wall ν — the first root of the curve's
+    /// quadratic in σ where it goes from inside to outside.
+    fn model_crossing(&self, kappa: f64, nu: DVec3, ray: &Ray) -> Option<f64> {
+        let flat = self.space;
+        let o = flat.to_model(ray.origin);
+        // Flat ambient coordinates are twice the model's: unit speed is half a model unit.
+        let e = Complex64::new(ray.direction.x, ray.direction.y) * 0.5;
+        let a = -kappa * nu.z * e.norm_sqr();
+        let b =
+            -2.0 * kappa * nu.z * (o.re * e.re + o.im * e.im) + 2.0 * (nu.x * e.re + nu.y * e.im);
+        let c = model_curve(kappa, nu, o);
+        let leaving = |sigma: f64| 2.0 * a * sigma + b < 0.0;
+        let roots: [Option<f64>; 2] = if a.abs() <= 1e-15 * b.abs() {
+            [(b != 0.0).then(|| -c / b), None]
+        } else {
+            let disc = b * b - 4.0 * a * c;
+            if disc < 0.0 {
+                return None;
+            }
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            [Some(q / a), (q != 0.0).then(|| c / q)]
+        };
+        roots
+            .into_iter()
+            .flatten()
+            .filter(|&sigma| sigma.is_finite() && sigma > -1e-12 && leaving(sigma))
+            .map(|sigma| sigma.max(0.0))
+            .min_by(f64::total_cmp)
+    }
+
+    /// The linear form of the geodesic that touches wall `wall` at its point `point` (the
+    /// wall's own form, except in straight-ray mode, where a wall is a model circle and a
+    /// mirror reflects across its tangent line). Positive inside, normalised.
+    pub fn wall_form_at(&self, wall: usize, point: DVec3) -> DVec3 {
+        let w = &self.walls[wall];
+        let Some(curved) = w.drawn_in else {
+            return w.form;
+        };
+        let z = self.space.to_model(point);
+        let k = curved.kappa();
+        let nu = w.form;
+        let gradient = Complex64::new(
+            -2.0 * k * nu.z * z.re + 2.0 * nu.x,
+            -2.0 * k * nu.z * z.im + 2.0 * nu.y,
+        );
+        let n = gradient / gradient.norm();
+        DVec3::new(n.re, n.im, -(n.re * point.x + n.im * point.y))
+    }
+
+    /// The room seen with straight rays (the seed's Fig. 8.1a): the same model picture — floor,
+    /// ceiling, and walls drawn as the model curves of the curved walls — in the flat plane,
+    /// whose ambient coordinates are (2x, 2y, 1) for the model point x + iy (so lengths agree
+    /// with the curved plane's at the model's origin).
+    pub fn flattened(&self) -> AnalyticRoom {
+        let curved = self
+            .walls
+            .first()
+            .and_then(|w| w.drawn_in)
+            .unwrap_or(self.space);
+        AnalyticRoom {
+            space: Space::new(orbifold::Geometry::Euclidean),
+            height: self.height,
+            walls: self
+                .walls
+                .iter()
+                .map(|w| RoomWall {
+                    drawn_in: Some(curved),
+                    ..w.clone()
+                })
+                .collect(),
+        }
+    }
+
     /// The fraction of wall `wall`'s length at which the wall point `point` lies.
     pub fn along(&self, wall: usize, point: DVec3) -> f64 {
         let w = &self.walls[wall];
-        let mut s = self.space.geodesic_parameter(w.start, w.tangent, point);
+        let (space, point) = match w.drawn_in {
+            None => (self.space, point),
+            Some(curved) => (curved, curved.to_ambient(self.space.to_model(point))),
+        };
+        let mut s = space.geodesic_parameter(w.start, w.tangent, point);
         if w.closed && s < 0.0 {
             s += std::f64::consts::TAU;
         }
@@ -260,6 +357,11 @@ impl AnalyticRoom {
     /// Whether a point is inside the room (to `tolerance` in the walls' linear forms).
     pub fn contains(&self, point: DVec3, height: f64, tolerance: f64) -> bool {
         (-tolerance..=self.height + tolerance).contains(&height)
-            && self.walls.iter().all(|w| w.form.dot(point) >= -tolerance)
+            && self.walls.iter().all(|w| match w.drawn_in {
+                None => w.form.dot(point) >= -tolerance,
+                Some(curved) => {
+                    model_curve(curved.kappa(), w.form, self.space.to_model(point)) >= -tolerance
+                }
+            })
     }
 }

@@ -266,7 +266,7 @@ impl Tracer {
             });
             ray = ray
                 .advanced(space, hit.s)
-                .reflected(space, self.room.walls[wall].form);
+                .reflected(space, self.room.wall_form_at(wall, hit.point));
         }
     }
 

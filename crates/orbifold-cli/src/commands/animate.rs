@@ -251,6 +251,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), CliError> {
     let job = Job {
         settings: Settings {
             max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
+            straight_rays: args.straight_rays,
             ..Settings::default()
         },
         options: RenderOptions {

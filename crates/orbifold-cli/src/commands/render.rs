@@ -95,6 +95,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
         nee: !args.no_nee,
         glow: [args.glow.unwrap_or(0.0); 3],
+        straight_rays: args.straight_rays,
     };
     let integrator =
         Integrator::from_scene(&scene, base.as_deref(), settings).map_err(CliError::Input)?;
