@@ -249,6 +249,8 @@ const NEAR_MAX: usize = 96;
 const NEAR_SHARE: f64 = 0.5;
 /// Per-point weights treat nothing as closer than this (intrinsic units).
 const NEAR_CLAMP: f64 = 0.05;
+/// Per-point weights use at least this cosine (the bound is rough off the floor and ceiling).
+const COSINE_FLOOR: f64 = 0.05;
 
 /// What a ray met.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -446,8 +448,15 @@ impl Integrator {
     }
 
     /// The per-point weights of the `near` choices at (x, h) (power × reflectance bound / J of
-    /// the connection to the image's centre) into `weights`; returns their sum.
-    fn near_weights(&self, x: DVec3, h: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+    /// the connection to the image's centre × a bound on the cosine there) into `weights`;
+    /// returns their sum. `up` is the vertical component of the unit normal at x.
+    ///
+    /// The cosine at x of the geodesic to an image at horizontal distance σ and height
+    /// difference Δh is (n_h·u σ + up·Δh)/ℓ for the unit horizontal direction u, at most
+    /// (|n_h| σ + up·Δh)/ℓ — exact on the floor and the ceiling, where it falls off as Δh/ℓ and
+    /// makes far images weigh as 1/ℓ³ rather than 1/ℓ².
+    fn near_weights(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+        let side = (1.0 - up * up).max(0.0).sqrt();
         let space = self.space();
         let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
         let mut total = 0.0;
@@ -473,9 +482,10 @@ impl Integrator {
             let dh = entry.height - h;
             let length2 = sigma * sigma + dh * dh;
             let ratio = if sigma > 1e-9 { sine / sigma } else { 1.0 };
+            let cosine = ((side * sigma + up * dh) / length2.sqrt()).clamp(COSINE_FLOOR, 1.0);
             let image = &self.images.images[entry.image];
             let power = mul(self.lights[entry.light].power, image.reflectance);
-            *slot = luminance(power) / (length2 * ratio).max(floor);
+            *slot = luminance(power) * cosine / (length2 * ratio).max(floor);
             total += *slot;
         }
         total
@@ -484,10 +494,10 @@ impl Integrator {
     /// Picks a light-sampling choice at (x, h): with probability `NEAR_SHARE` among the near
     /// images by per-point weights, else from the scene-wide distribution. Returns the entry
     /// and its probability.
-    fn pick_entry(&self, x: DVec3, h: f64, u: f64) -> Option<(usize, f64)> {
+    fn pick_entry(&self, x: DVec3, h: f64, up: f64, u: f64) -> Option<(usize, f64)> {
         let distribution = self.distribution.as_ref()?;
         let mut weights = [0.0; NEAR_MAX];
-        let total = self.near_weights(x, h, &mut weights);
+        let total = self.near_weights(x, h, up, &mut weights);
         let share = if total > 0.0 && total.is_finite() {
             NEAR_SHARE
         } else {
@@ -520,10 +530,11 @@ impl Integrator {
         share * near + (1.0 - share) * global
     }
 
-    /// The probability of `pick_entry` at (x, h) choosing `index`.
-    fn pmf_at(&self, x: DVec3, h: f64, index: usize) -> f64 {
+    /// The probability of `pick_entry` at (x, h) with normal's vertical part `up` choosing
+    /// `index`.
+    fn pmf_at(&self, x: DVec3, h: f64, up: f64, index: usize) -> f64 {
         let mut weights = [0.0; NEAR_MAX];
-        let total = self.near_weights(x, h, &mut weights);
+        let total = self.near_weights(x, h, up, &mut weights);
         let share = if total > 0.0 && total.is_finite() {
             NEAR_SHARE
         } else {
@@ -706,7 +717,8 @@ impl Integrator {
         bsdf: &Bsdf,
     ) -> Rgb {
         let space = self.space();
-        let Some((index, pmf)) = self.pick_entry(x, h, sampler.next_f64()) else {
+        let up = shading.normal().z;
+        let Some((index, pmf)) = self.pick_entry(x, h, up, sampler.next_f64()) else {
             return [0.0; 3];
         };
         let entry = self.entries[index];
@@ -769,7 +781,7 @@ impl Integrator {
     /// the walls of `march.chain`.
     fn light_pdf(
         &self,
-        (x, h): (DVec3, f64),
+        (x, h, up): (DVec3, f64, f64),
         light: usize,
         triangle: u32,
         w: [f64; 3],
@@ -790,7 +802,7 @@ impl Integrator {
         };
         let pdf_area = self.lights[light].pdf_area(space, triangle, w);
         let j = spread(space, march.length, sigma);
-        self.pmf_at(x, h, index) * pdf_area * j / cos_out.abs().max(1e-12)
+        self.pmf_at(x, h, up, index) * pdf_area * j / cos_out.abs().max(1e-12)
     }
 
     /// The radiance arriving along a camera ray (one path sample).
@@ -802,7 +814,7 @@ impl Integrator {
         // The previous scattering: specular (or the camera), and its BSDF pdf.
         let mut specular = true;
         let mut pdf_bsdf = 0.0;
-        let mut previous = (DVec3::ZERO, 0.0);
+        let mut previous = (DVec3::ZERO, 0.0, 0.0);
         let mut depth = 0;
         loop {
             let march = self.march(&ray, f64::INFINITY, Some((&mut *sampler, luminance(beta))));
@@ -862,7 +874,7 @@ impl Integrator {
             beta = mul(beta, sample.weight);
             specular = sample.delta;
             pdf_bsdf = sample.pdf;
-            previous = (x, h);
+            previous = (x, h, normal.z);
             if depth >= 3 {
                 let survive = luminance(beta).clamp(0.05, 1.0);
                 if sampler.next_f64() >= survive {
