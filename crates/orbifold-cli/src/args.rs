@@ -122,6 +122,13 @@ pub struct RenderArgs {
     /// Fig. 8.1a), to compare with the true geodesics.
     #[arg(long)]
     pub straight_rays: bool,
+    /// Denoise the image (the default for PNG and JPEG): an edge-avoiding filter guided by the
+    /// albedo, normal and depth each pixel saw first and by its own noise.
+    #[arg(long, conflicts_with = "no_denoise")]
+    pub denoise: bool,
+    /// Keep the raw path-traced image (the default for EXR).
+    #[arg(long)]
+    pub no_denoise: bool,
     /// Exposure in stops for the PNG's tone mapping (default: automatic, the image's
     /// log-average luminance to middle grey 0.18).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]

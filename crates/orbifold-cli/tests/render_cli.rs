@@ -117,7 +117,7 @@ fn bad_input_is_a_clear_error_and_writes_nothing() {
     let out = temp("never.png");
     for (args, message) in [
         (vec!["*23"], "bad orbifold"),
-        (vec!["*2223", "-o", "x.bmp"], ".png or .exr"),
+        (vec!["*2223", "-o", "x.bmp"], ".png, .exr or .jpg"),
         (vec!["*2223", "--size", "0x10"], "between 1 and 16384"),
         (
             vec!["*2223", "--time-limit", "-1"],
@@ -136,4 +136,58 @@ fn bad_input_is_a_clear_error_and_writes_nothing() {
             .stderr(predicate::str::contains(message));
     }
     assert!(!out.exists());
+}
+
+#[test]
+fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
+    let png = temp("denoised.png");
+    let summary = render(&[
+        "*2223",
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "12x8",
+        "--spp",
+        "2",
+    ]);
+    assert_eq!(summary["denoised"], true);
+    let raw = render(&[
+        "*2223",
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "12x8",
+        "--spp",
+        "2",
+        "--no-denoise",
+    ]);
+    assert_eq!(raw["denoised"], false);
+    let exr = temp("raw.exr");
+    let summary = render(&[
+        "*2223",
+        "-o",
+        exr.to_str().unwrap(),
+        "--size",
+        "12x8",
+        "--spp",
+        "2",
+    ]);
+    assert_eq!(summary["denoised"], false);
+    let summary = render(&[
+        "*2223",
+        "-o",
+        exr.to_str().unwrap(),
+        "--size",
+        "12x8",
+        "--spp",
+        "2",
+        "--denoise",
+        "--straight-rays",
+    ]);
+    assert_eq!(summary["denoised"], true);
+    orbifold()
+        .args(["render", "--denoise", "--no-denoise"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("cannot be used with"));
 }

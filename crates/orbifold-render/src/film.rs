@@ -87,6 +87,33 @@ impl Film {
         }
     }
 
+    /// A film holding `pixels` (row by row, top row first) as one sample each: what a filter
+    /// such as the denoiser makes of a film.
+    ///
+    /// # Panics
+    ///
+    /// If there are not `width × height` pixels.
+    ///
+    /// ```
+    /// use orbifold_render::film::Film;
+    ///
+    /// let film = Film::from_pixels(2, 1, &[[0.5; 3], [1.0, 0.0, 0.0]]);
+    /// assert_eq!(film.pixel(1, 0), [1.0, 0.0, 0.0]);
+    /// assert_eq!(film.samples(0, 0), 1);
+    /// ```
+    pub fn from_pixels(width: u32, height: u32, pixels: &[[f64; 3]]) -> Film {
+        assert_eq!(
+            pixels.len(),
+            width as usize * height as usize,
+            "one value per pixel"
+        );
+        let mut film = Film::new(width, height);
+        for (i, p) in pixels.iter().enumerate() {
+            film.add_at(i, *p);
+        }
+        film
+    }
+
     /// The width in pixels.
     ///
     /// ```

@@ -297,6 +297,27 @@ struct March {
     rest: f64,
 }
 
+/// What a camera path saw first — the first surface that is not a mirror — as guides for the
+/// denoiser ([`crate::denoise`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FirstHit {
+    /// The surface's reflectance colour ([`Bsdf::albedo`]); 1 for a light or nothing.
+    pub albedo: Rgb,
+    /// Its unit normal facing the camera, in the hit point's tangent frame; 0 for nothing.
+    pub normal: DVec3,
+    /// Arc length from the camera, through the mirrors; 0 for nothing.
+    pub depth: f64,
+}
+
+/// One camera path's estimate and what it saw first.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PathSample {
+    /// The radiance estimate.
+    pub radiance: Rgb,
+    /// The first surface that is not a mirror.
+    pub first: FirstHit,
+}
+
 /// A mirror room ready to render: geometry, materials, lights and their images.
 #[derive(Clone, Debug)]
 pub struct Integrator {
@@ -807,7 +828,14 @@ impl Integrator {
 
     /// The radiance arriving along a camera ray (one path sample).
     pub fn radiance(&self, ray: &Ray, sampler: &mut Sampler) -> Rgb {
+        self.sample(ray, sampler).radiance
+    }
+
+    /// The radiance arriving along a camera ray (one path sample) and the first surface that is
+    /// not a mirror.
+    pub fn sample(&self, ray: &Ray, sampler: &mut Sampler) -> PathSample {
         let space = self.space();
+        let mut first: Option<FirstHit> = None;
         let mut radiance = [0.0; 3];
         let mut beta = [1.0; 3];
         let mut ray = *ray;
@@ -825,6 +853,13 @@ impl Integrator {
             let (x, h) = (near.point, near.height);
             let frame = TangentFrame::at(space, x);
             let travel = travel_direction(space, &frame, &march.ray, march.rest);
+            if first.is_none() {
+                first = Some(FirstHit {
+                    albedo: [1.0; 3],
+                    normal: -travel,
+                    depth: march.length,
+                });
+            }
             if let Struck::Light(l, triangle, w) = near.struck {
                 let Some(n) = self.light_normal(l, triangle, w, &frame) else {
                     break;
@@ -855,6 +890,13 @@ impl Integrator {
                 normal
             };
             let shading = Frame::from_normal(normal);
+            if depth == 0 {
+                first = Some(FirstHit {
+                    albedo: bsdf.albedo(),
+                    normal,
+                    depth: march.length,
+                });
+            }
             // As in pbrt: a path has at most max_depth scattering vertices, whether its last
             // segment to the light comes from light sampling or from a hit.
             if depth == self.settings.max_depth {
@@ -887,10 +929,16 @@ impl Integrator {
             }
             ray = frame.ray(space, x, h, wi).advanced(space, RAY_EPSILON);
         }
-        if radiance.iter().all(|v| v.is_finite()) {
-            radiance
-        } else {
-            [0.0; 3]
+        PathSample {
+            radiance: if radiance.iter().all(|v| v.is_finite()) {
+                radiance
+            } else {
+                [0.0; 3]
+            },
+            first: first.unwrap_or(FirstHit {
+                albedo: [1.0; 3],
+                ..FirstHit::default()
+            }),
         }
     }
 

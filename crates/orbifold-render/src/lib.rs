@@ -14,6 +14,7 @@ pub mod tiling;
 pub mod aov;
 pub mod bsdf;
 pub mod bvh;
+pub mod denoise;
 pub mod flat;
 pub mod instance;
 pub mod integrator;

@@ -315,11 +315,21 @@ impl ImageSet {
 
     /// The image whose tile has centre `key` (within 1e-7), if enumerated.
     pub fn find(&self, key: DVec3) -> Option<usize> {
+        // Long chains of reflections in H² reach points far out on the hyperboloid, whose cells
+        // saturate: no image is there.
+        if !key.is_finite() {
+            return None;
+        }
         let [a, b, c] = Self::cell(key);
         for da in -1..=1 {
             for db in -1..=1 {
                 for dc in -1..=1 {
-                    if let Some(list) = self.lookup.get(&[a + da, b + db, c + dc]) {
+                    let cell = [
+                        a.saturating_add(da),
+                        b.saturating_add(db),
+                        c.saturating_add(dc),
+                    ];
+                    if let Some(list) = self.lookup.get(&cell) {
                         for &i in list {
                             if (self.images[i].key - key).length() < 1e-7 * (1.0 + key.length()) {
                                 return Some(i);

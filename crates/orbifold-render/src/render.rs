@@ -11,9 +11,9 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
+use crate::denoise::Guides;
 use crate::film::Film;
-use crate::integrator::Integrator;
-use crate::light::Rgb;
+use crate::integrator::{Integrator, PathSample};
 use crate::sampler::Sampler;
 
 /// What to render.
@@ -45,6 +45,8 @@ pub struct Rendered {
     pub elapsed: Duration,
     /// Whether it stopped before taking every sample (time limit, noise target or cancellation).
     pub stopped_early: bool,
+    /// What each pixel's paths saw first, for the denoiser.
+    pub guides: Guides,
 }
 
 /// Renders the camera's view. `progress(done, wanted)` is called after every pass; setting
@@ -72,10 +74,11 @@ pub fn render(
     let start = Instant::now();
     let (width, height) = (options.width, options.height);
     let mut film = Film::new(width, height);
+    let mut guides = Guides::new(width, height);
     let mut done = 0;
     while done < options.samples {
         let pass = done;
-        let rows: Vec<Vec<Rgb>> = (0..height)
+        let rows: Vec<Vec<PathSample>> = (0..height)
             .into_par_iter()
             .map(|j| {
                 (0..width)
@@ -84,14 +87,15 @@ pub fn render(
                         let mut sampler = Sampler::new(options.seed, pixel, u64::from(pass));
                         let offset = sampler.next_2d();
                         let ray = camera.ray(i, j, width, height, offset);
-                        integrator.radiance(&ray, &mut sampler)
+                        integrator.sample(&ray, &mut sampler)
                     })
                     .collect()
             })
             .collect();
         for (j, row) in rows.iter().enumerate() {
             for (i, value) in row.iter().enumerate() {
-                film.add(i as u32, j as u32, *value);
+                film.add(i as u32, j as u32, value.radiance);
+                guides.add(i as u32, j as u32, &value.first);
             }
         }
         done += 1;
@@ -110,5 +114,6 @@ pub fn render(
         samples: done,
         elapsed: start.elapsed(),
         stopped_early: done < options.samples,
+        guides,
     }
 }

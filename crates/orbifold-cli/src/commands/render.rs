@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use orbifold_render::camera::Camera;
+use orbifold_render::denoise::{DenoiseOptions, denoise};
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_scene::Scene;
@@ -29,6 +30,7 @@ struct Summary {
     relative_noise: f64,
     dropped_samples: u64,
     exposure: f64,
+    denoised: bool,
 }
 
 /// The scene to render: a file, the default room of a signature, or the built-in default.
@@ -142,8 +144,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let exposure = args
         .exposure
         .unwrap_or_else(|| rendered.film.auto_exposure());
-    rendered
-        .film
+    let denoised = args.denoise || (!args.no_denoise && extension.as_deref() != Some("exr"));
+    let image = if denoised {
+        denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default())
+    } else {
+        rendered.film.clone()
+    };
+    image
         .write(&args.output, exposure)
         .map_err(|e| CliError::Input(format!("cannot write {}: {e}", args.output.display())))?;
 
@@ -157,6 +164,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         relative_noise: rendered.film.relative_noise(),
         dropped_samples: rendered.film.dropped(),
         exposure,
+        denoised,
     };
     let mut out = output::stdout();
     if args.json {
@@ -165,7 +173,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     } else {
         writeln!(
             out,
-            "wrote {} ({}x{}, {} spp{} in {:.1} s; relative noise {:.4})",
+            "wrote {} ({}x{}, {} spp{} in {:.1} s; relative noise {:.4}{})",
             summary.output,
             width,
             height,
@@ -176,7 +184,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 ""
             },
             summary.seconds,
-            summary.relative_noise
+            summary.relative_noise,
+            if denoised { " before denoising" } else { "" }
         )?;
     }
     out.flush()?;

@@ -1,0 +1,197 @@
+//! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
+//!
+//! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
+//! [--only SIG] [--mesh FILE]`
+//!
+//! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
+//! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
+//! (`../shared/models/dragon.ply`, 47,794 triangles; the built-in figure if it is missing) in
+//! the middle, a spherical area light under the ceiling, at most 50 bounces (the seed's
+//! maxDepth), an N×N image (896, the seed's size, by default) for T seconds (120 by default) on
+//! all threads.
+//!
+//! Each scene is rendered twice with different seeds. The noise of one image is estimated from
+//! the difference of the two, which holds twice its variance: the RMS over pixels and channels
+//! of the tone-mapped 8-bit values, divided by √2, in grey levels ("display noise"; random noise
+//! of about one level is below what the eye sees in a smooth area). It is given for the raw
+//! images and for the denoised ones (`orbifold_render::denoise`; this counts the filter's
+//! remaining noise, not its bias). Also: samples per pixel, the renderer's own relative-noise
+//! estimate, and million paths per second.
+
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use orbifold_render::camera::Camera;
+use orbifold_render::denoise::{DenoiseOptions, denoise};
+use orbifold_render::film::{Film, tone_map};
+use orbifold_render::geodesic::Ray;
+use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::room::AnalyticRoom;
+use orbifold_scene::{LightKind, Scene};
+
+struct Args {
+    size: u32,
+    seconds: f64,
+    only: Option<String>,
+    mesh: Option<String>,
+}
+
+fn parse_args() -> Args {
+    let mut args = Args {
+        size: 896,
+        seconds: 120.0,
+        only: None,
+        mesh: None,
+    };
+    let default_mesh = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/models/dragon.ply"
+    );
+    if std::path::Path::new(default_mesh).is_file() {
+        args.mesh = Some(default_mesh.into());
+    }
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        let mut value = || it.next().unwrap_or_else(|| panic!("{a} needs a value"));
+        match a.as_str() {
+            "--size" => args.size = value().parse().expect("--size N"),
+            "--seconds" => args.seconds = value().parse().expect("--seconds T"),
+            "--only" => args.only = Some(value()),
+            "--mesh" => args.mesh = Some(value()),
+            other => panic!("unknown argument {other}"),
+        }
+    }
+    args
+}
+
+fn scene(signature: &str, mesh: Option<&str>) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    let layout = scene.layout().expect("a valid room");
+    let centre = [layout.centre.re, layout.centre.im];
+    scene.room.reflectance = [0.9; 3];
+    let object = &mut scene.objects[0];
+    object.at = centre;
+    object.size = 0.5;
+    if let Some(mesh) = mesh {
+        object.mesh = Some(mesh.into());
+        object.name = Some("dragon".into());
+    }
+    let light = &mut scene.lights[0];
+    light.kind = LightKind::Sphere;
+    light.at = centre;
+    light.height = 0.85;
+    light.radius = 0.05;
+    light.power = 30.0;
+    // Three quarters of the way to the −x wall, 20° down, as `orbifold scene new` puts it.
+    let space = layout.space();
+    let ray = Ray::from_model(space, layout.centre, 0.5, std::f64::consts::PI, 0.0);
+    let reach = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])
+        .ok()
+        .and_then(|room| room.exit(&ray))
+        .map_or(0.3, |exit| 0.75 * exit.s);
+    let z = space.to_model(ray.point_at(space, reach).0);
+    scene.camera.at = [z.re, z.im];
+    scene.render.max_depth = 50;
+    scene
+}
+
+/// RMS and median over pixels of |A − B|/√2 in 8-bit levels (mean of the channels per pixel).
+fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64) {
+    let mut per_pixel = Vec::new();
+    let mut sum = 0.0;
+    for y in 0..a.height() {
+        for x in 0..a.width() {
+            let (p, q) = (
+                tone_map(a.pixel(x, y), exposure),
+                tone_map(b.pixel(x, y), exposure),
+            );
+            let d: f64 = (0..3)
+                .map(|c| (f64::from(p[c]) - f64::from(q[c])).powi(2))
+                .sum::<f64>()
+                / 3.0;
+            sum += d;
+            per_pixel.push(d.sqrt());
+        }
+    }
+    per_pixel.sort_by(f64::total_cmp);
+    let rms = (sum / per_pixel.len() as f64).sqrt() / std::f64::consts::SQRT_2;
+    (
+        rms,
+        per_pixel[per_pixel.len() / 2] / std::f64::consts::SQRT_2,
+    )
+}
+
+fn main() {
+    let args = parse_args();
+    println!(
+        "{}×{} for {} s per image, {} threads, object: {}",
+        args.size,
+        args.size,
+        args.seconds,
+        rayon::current_num_threads(),
+        args.mesh.as_deref().unwrap_or("the built-in figure")
+    );
+    println!();
+    println!(
+        "| room | geometry | spp | relative noise | display noise raw | display noise denoised | denoise s | M paths/s |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {
+        if args.only.as_deref().is_some_and(|o| o != signature) {
+            continue;
+        }
+        let scene = scene(signature, args.mesh.as_deref());
+        let integrator = Integrator::from_scene(
+            &scene,
+            None,
+            Settings {
+                max_depth: 50,
+                ..Settings::default()
+            },
+        )
+        .expect("the scene builds");
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let run = |seed| {
+            let options = RenderOptions {
+                width: args.size,
+                height: args.size,
+                samples: u32::MAX,
+                seed,
+                time_limit: Some(Duration::from_secs_f64(args.seconds)),
+                noise_target: None,
+            };
+            render(
+                &integrator,
+                &camera,
+                &options,
+                &AtomicBool::new(false),
+                &|_, _| {},
+            )
+        };
+        let (a, b) = (run(1), run(2));
+        let exposure = a.film.auto_exposure();
+        let start = Instant::now();
+        let (da, db) = (
+            denoise(&a.film, &a.guides, &DenoiseOptions::default()),
+            denoise(&b.film, &b.guides, &DenoiseOptions::default()),
+        );
+        let denoise_seconds = start.elapsed().as_secs_f64() / 2.0;
+        let raw = display_noise(&a.film, &b.film, exposure);
+        let clean = display_noise(&da, &db, exposure);
+        let paths = f64::from(a.samples) * f64::from(args.size).powi(2) / a.elapsed.as_secs_f64();
+        println!(
+            "| `{signature}` | {:?} | {} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1} | {:.2} | {:.3} |",
+            integrator.space().geometry(),
+            a.samples,
+            a.film.relative_noise(),
+            raw.0,
+            raw.1,
+            clean.0,
+            clean.1,
+            denoise_seconds,
+            paths / 1e6
+        );
+    }
+}
