@@ -198,9 +198,16 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
     };
     for pass in 0..options.passes {
         let step = 1usize << pass;
+        // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in SVGF):
+        // a pixel whose few samples happened to agree — all zero, say — has a variance estimate
+        // near 0 and would otherwise refuse every neighbour and stay a dark or bright speck.
+        let tolerance: Vec<f64> = (0..n)
+            .into_par_iter()
+            .map(|i| guide.blurred(i, &variance))
+            .collect();
         let (next, next_variance): (Vec<Rgb>, Vec<f64>) = (0..n)
             .into_par_iter()
-            .map(|i| guide.filter(i, step, &lighting, &variance))
+            .map(|i| guide.filter(i, step, &lighting, &variance, tolerance[i]))
             .unzip();
         lighting = next;
         variance = next_variance;
@@ -225,16 +232,48 @@ struct Guide<'a> {
 }
 
 impl Guide<'_> {
+    /// The variance around pixel `i`: a 3×3 Gaussian of the finite variances.
+    fn blurred(&self, i: usize, variance: &[f64]) -> f64 {
+        const GAUSS: [f64; 3] = [0.25, 0.5, 0.25];
+        let (x, y) = ((i % self.width) as isize, (i / self.width) as isize);
+        let (mut sum, mut weights) = (0.0, 0.0);
+        for (dy, ky) in GAUSS.iter().enumerate() {
+            for (dx, kx) in GAUSS.iter().enumerate() {
+                let (xx, yy) = (x + dx as isize - 1, y + dy as isize - 1);
+                if xx < 0 || yy < 0 || xx >= self.width as isize || yy >= self.height as isize {
+                    continue;
+                }
+                let v = variance[yy as usize * self.width + xx as usize];
+                if v.is_finite() {
+                    sum += kx * ky * v;
+                    weights += kx * ky;
+                }
+            }
+        }
+        if weights > 0.0 {
+            sum / weights
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// One à-trous tap set around pixel `i` with holes of `step`: the filtered lighting and its
-    /// variance.
-    fn filter(&self, i: usize, step: usize, lighting: &[Rgb], variance: &[f64]) -> (Rgb, f64) {
+    /// variance. `variance_around` is the (blurred) variance that sets the lighting tolerance.
+    fn filter(
+        &self,
+        i: usize,
+        step: usize,
+        lighting: &[Rgb],
+        variance: &[f64],
+        variance_around: f64,
+    ) -> (Rgb, f64) {
         let o = self.options;
         let (x, y) = ((i % self.width) as isize, (i / self.width) as isize);
         let centre = lighting[i];
         let centre_l = luminance(centre);
-        // The lighting tolerance: a few of the centre's standard errors (infinite variance —
-        // an unsampled pixel — accepts everything).
-        let tolerance = o.sigma_lighting * variance[i].sqrt() + 1e-6;
+        // The lighting tolerance: a few standard errors (an infinite variance — nothing
+        // sampled around — accepts everything).
+        let tolerance = o.sigma_lighting * variance_around.sqrt() + 1e-6;
         let (mut sum, mut weights, mut var) = ([0.0; 3], 0.0, 0.0);
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y + (dy as isize - 2) * step as isize;
