@@ -80,22 +80,17 @@ quarters of the way to the -x wall).
 --json prints {\"output\", \"width\", \"height\", \"samples\", \"seconds\", \"stopped_early\",
 \"relative_noise\", \"dropped_samples\", \"exposure\"}.";
 
+/// How an image is rendered: what `render` and `animate` share.
 #[derive(Debug, Args)]
-pub struct RenderArgs {
-    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
-    #[arg(value_name = "SCENE|SIG")]
-    pub input: Option<String>,
-    /// The image to write: `.png` (tone-mapped, 8-bit sRGB), `.jpg` (the same, smaller) or
-    /// `.exr` (linear HDR).
-    #[arg(short, long, value_name = "FILE", default_value = "render.png")]
-    pub output: std::path::PathBuf,
+pub struct ImageArgs {
     /// Image size (default: the scene's `[render]` size).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
     /// Samples per pixel (default: the scene's).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
-    /// Stop after this many seconds (at the end of the pass under way) and write what there is.
+    /// Stop an image (each frame of an animation) after this many seconds, at the end of the
+    /// pass under way, and keep what there is.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub time_limit: Option<f64>,
     /// Stop once the relative noise (the mean over pixels of the standard error of the pixel's
@@ -105,7 +100,8 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: Option<u32>,
-    /// Seed of the random numbers.
+    /// Seed of the random numbers (the same for every frame of an animation: the noise stays
+    /// put instead of crawling).
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
     /// The most non-mirror bounces of a path (default: the scene's).
@@ -129,10 +125,23 @@ pub struct RenderArgs {
     /// Keep the raw path-traced image (the default for EXR).
     #[arg(long)]
     pub no_denoise: bool,
-    /// Exposure in stops for the PNG's tone mapping (default: automatic, the image's
-    /// log-average luminance to middle grey 0.18).
+    /// Exposure in stops for PNG and JPEG tone mapping (default: automatic, the log-average
+    /// luminance to middle grey 0.18; for an animation, that of a small render of frame 0).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
     pub exposure: Option<f64>,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    #[arg(value_name = "SCENE|SIG")]
+    pub input: Option<String>,
+    /// The image to write: `.png` (tone-mapped, 8-bit sRGB), `.jpg` (the same, smaller) or
+    /// `.exr` (linear HDR).
+    #[arg(short, long, value_name = "FILE", default_value = "render.png")]
+    pub output: std::path::PathBuf,
+    #[command(flatten)]
+    pub image: ImageArgs,
     /// Print a summary as JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -187,33 +196,8 @@ pub struct AnimateArgs {
     /// Image format of the frames.
     #[arg(long, value_name = "png|jpg|exr", default_value = "png")]
     pub format: String,
-    /// Frame size (default: the scene's `[render]` size).
-    #[arg(long, value_name = "WxH", value_parser = parse_size)]
-    pub size: Option<(u32, u32)>,
-    /// Samples per pixel (default: the scene's).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-    pub spp: Option<u32>,
-    /// Seconds per frame at most (the frame ends with the pass under way).
-    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
-    pub time_limit: Option<f64>,
-    /// Stop each frame once its relative noise is at most this.
-    #[arg(long, value_name = "X")]
-    pub noise_target: Option<f64>,
-    /// Worker threads (default: all cores).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-    pub threads: Option<u32>,
-    /// Seed of the random numbers (the same for every frame: the noise does not flicker).
-    #[arg(long, value_name = "S", default_value_t = 0)]
-    pub seed: u64,
-    /// The most non-mirror bounces of a path (default: the scene's).
-    #[arg(long, value_name = "N")]
-    pub max_depth: Option<u32>,
-    /// Light as if space were flat (see `orbifold render --help`).
-    #[arg(long)]
-    pub straight_rays: bool,
-    /// Exposure in stops for every frame (default: from a small render of frame 0).
-    #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
-    pub exposure: Option<f64>,
+    #[command(flatten)]
+    pub image: ImageArgs,
     /// Render frames that already exist again.
     #[arg(long)]
     pub force: bool,

@@ -32,14 +32,7 @@ fn passes(c: &mut Criterion) {
         let scene = default_room(signature);
         let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
         let camera = Camera::new(integrator.space(), &scene.camera);
-        let options = RenderOptions {
-            width: 64,
-            height: 48,
-            samples: 1,
-            seed: 1,
-            time_limit: None,
-            noise_target: None,
-        };
+        let options = RenderOptions::new(64, 48, 1, 1);
         group.throughput(Throughput::Elements(64 * 48));
         group.bench_function(format!("pass 64x48 {signature}"), |b| {
             b.iter(|| {

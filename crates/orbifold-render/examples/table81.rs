@@ -135,7 +135,7 @@ fn main() {
     );
     println!();
     println!(
-        "| room | geometry | spp | relative noise | display noise raw | display noise denoised | denoise s | M paths/s |"
+        "| room | geometry | spp | relative noise | display noise raw: RMS, median | denoised: RMS, median | denoise s | M paths/s |"
     );
     println!("|---|---|---:|---:|---:|---:|---:|---:|");
     for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {

@@ -5,15 +5,17 @@
 //! added to the film in pixel order, so an image is the same for a given seed whatever the
 //! number of threads.
 
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use orbifold_scene::Scene;
 use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::denoise::Guides;
 use crate::film::Film;
-use crate::integrator::{Integrator, PathSample};
+use crate::integrator::{Integrator, PathSample, Settings};
 use crate::sampler::Sampler;
 
 /// What to render.
@@ -34,6 +36,28 @@ pub struct RenderOptions {
     pub noise_target: Option<f64>,
 }
 
+impl RenderOptions {
+    /// `samples` passes over a `width` × `height` image with `seed`, without a time limit or
+    /// a noise target.
+    ///
+    /// ```
+    /// use orbifold_render::render::RenderOptions;
+    ///
+    /// let options = RenderOptions::new(8, 6, 4, 1);
+    /// assert_eq!((options.width, options.samples, options.time_limit), (8, 4, None));
+    /// ```
+    pub fn new(width: u32, height: u32, samples: u32, seed: u64) -> RenderOptions {
+        RenderOptions {
+            width,
+            height,
+            samples,
+            seed,
+            time_limit: None,
+            noise_target: None,
+        }
+    }
+}
+
 /// What a render did.
 #[derive(Clone, Debug)]
 pub struct Rendered {
@@ -49,6 +73,35 @@ pub struct Rendered {
     pub guides: Guides,
 }
 
+/// Renders a scene from its camera to the end (no cancellation): its integrator with
+/// `settings` (`base` resolves file names), then [`render`].
+///
+/// ```
+/// use orbifold_render::integrator::Settings;
+/// use orbifold_render::render::{RenderOptions, render_scene};
+///
+/// let scene = orbifold_scene::Scene::default();
+/// let image = render_scene(&scene, None, Settings::default(), &RenderOptions::new(8, 6, 2, 1))?;
+/// assert_eq!(image.film.width(), 8);
+/// # Ok::<(), String>(())
+/// ```
+pub fn render_scene(
+    scene: &Scene,
+    base: Option<&Path>,
+    settings: Settings,
+    options: &RenderOptions,
+) -> Result<Rendered, String> {
+    let integrator = Integrator::from_scene(scene, base, settings)?;
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    Ok(render(
+        &integrator,
+        &camera,
+        options,
+        &AtomicBool::new(false),
+        &|_, _| {},
+    ))
+}
+
 /// Renders the camera's view. `progress(done, wanted)` is called after every pass; setting
 /// `cancel` stops after the current pass (the image so far is returned).
 ///
@@ -59,7 +112,7 @@ pub struct Rendered {
 /// let scene = orbifold_scene::Scene::default();
 /// let integrator = Integrator::from_scene(&scene, None, Settings::default())?;
 /// let camera = Camera::new(integrator.space(), &scene.camera);
-/// let options = RenderOptions { width: 8, height: 6, samples: 2, seed: 1, time_limit: None, noise_target: None };
+/// let options = RenderOptions::new(8, 6, 2, 1);
 /// let image = render(&integrator, &camera, &options, &AtomicBool::new(false), &|_, _| {});
 /// assert_eq!(image.samples, 2);
 /// # Ok::<(), Box<dyn std::error::Error>>(())

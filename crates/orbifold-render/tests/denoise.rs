@@ -1,34 +1,16 @@
 //! The denoiser: closer to a converged render than the noisy input, edges kept, textures kept,
 //! finite everywhere.
 
-use std::sync::atomic::AtomicBool;
-
 use glam::DVec3;
-use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
 use orbifold_render::film::{Film, tone_map};
-use orbifold_render::integrator::{FirstHit, Integrator, Settings};
-use orbifold_render::render::{RenderOptions, Rendered, render};
+use orbifold_render::integrator::{FirstHit, Settings};
+use orbifold_render::render::{RenderOptions, Rendered, render_scene};
 use orbifold_scene::{LightKind, Scene};
 
 fn rendered(scene: &Scene, samples: u32, seed: u64) -> Rendered {
-    let integrator = Integrator::from_scene(scene, None, Settings::default()).unwrap();
-    let camera = Camera::new(integrator.space(), &scene.camera);
-    let options = RenderOptions {
-        width: 40,
-        height: 30,
-        samples,
-        seed,
-        time_limit: None,
-        noise_target: None,
-    };
-    render(
-        &integrator,
-        &camera,
-        &options,
-        &AtomicBool::new(false),
-        &|_, _| {},
-    )
+    let options = RenderOptions::new(40, 30, samples, seed);
+    render_scene(scene, None, Settings::default(), &options).unwrap()
 }
 
 /// The median over pixels of the difference of the two films as shown on screen (tone-mapped

@@ -3,15 +3,13 @@
 //! and the geometric term integrated over the floor against the solid angle it covers.
 
 use std::f64::consts::{PI, TAU};
-use std::sync::atomic::AtomicBool;
 
 use orbifold::Geometry;
 use orbifold::space::Space;
-use orbifold_render::camera::Camera;
 use orbifold_render::film::Film;
-use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::integrator::Settings;
 use orbifold_render::light::{TangentFrame, connect, spread, travel_direction};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{RenderOptions, render_scene};
 use orbifold_render::tracer::{SurfaceId, Tracer};
 use orbifold_render::triangle::TriangleHit;
 use orbifold_scene::{Material, Mirror, MirrorDefault, Object, Scene, Wall};
@@ -69,24 +67,9 @@ fn image(scene: &Scene, samples: u32) -> Film {
         glow: [GLOW; 3],
         ..Settings::default()
     };
-    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
-    let camera = Camera::new(integrator.space(), &scene.camera);
-    let options = RenderOptions {
-        width: 8,
-        height: 6,
-        samples,
-        seed: 7,
-        time_limit: None,
-        noise_target: None,
-    };
-    render(
-        &integrator,
-        &camera,
-        &options,
-        &AtomicBool::new(false),
-        &|_, _| {},
-    )
-    .film
+    render_scene(scene, None, settings, &RenderOptions::new(8, 6, samples, 7))
+        .unwrap()
+        .film
 }
 
 /// The image's mean against the equilibrium radiance glow / (1 − ρ), within 5 standard errors

@@ -2,16 +2,13 @@
 //! tracing, determinism, finite pixels everywhere, and the geometric term against the geodesic
 //! flow.
 
-use std::sync::atomic::AtomicBool;
-
 use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
-use orbifold_render::camera::Camera;
 use orbifold_render::film::Film;
-use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::integrator::Settings;
 use orbifold_render::light::{TangentFrame, spread};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{RenderOptions, render_scene};
 use orbifold_scene::{LightKind, Material, Mirror, Scene, Wall};
 
 /// A room of `signature` with grey walls, one partial mirror per wall of reflectance 0.8, a
@@ -56,23 +53,13 @@ fn image(scene: &Scene, nee: bool, samples: u32, seed: u64) -> Film {
         nee,
         ..Settings::default()
     };
-    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
-    let camera = Camera::new(integrator.space(), &scene.camera);
-    let options = RenderOptions {
-        width: 8,
-        height: 6,
-        samples,
-        seed,
-        time_limit: None,
-        noise_target: None,
-    };
-    render(
-        &integrator,
-        &camera,
-        &options,
-        &AtomicBool::new(false),
-        &|_, _| {},
+    render_scene(
+        scene,
+        None,
+        settings,
+        &RenderOptions::new(8, 6, samples, seed),
     )
+    .unwrap()
     .film
 }
 

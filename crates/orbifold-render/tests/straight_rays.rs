@@ -2,16 +2,13 @@
 //! leave it where those curves are crossed and mirrors reflect across their tangents; in a
 //! Euclidean room straight rays and geodesics give the same picture.
 
-use std::sync::atomic::AtomicBool;
-
 use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::{Layout, LayoutOptions};
-use orbifold_render::camera::Camera;
 use orbifold_render::film::Film;
 use orbifold_render::geodesic::Ray;
-use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::integrator::Settings;
+use orbifold_render::render::{RenderOptions, render_scene};
 use orbifold_render::room::{AnalyticRoom, RoomSurface};
 use orbifold_scene::{LightKind, Scene};
 use proptest::prelude::*;
@@ -73,24 +70,9 @@ fn image(scene: &Scene, straight_rays: bool) -> Film {
         straight_rays,
         ..Settings::default()
     };
-    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
-    let camera = Camera::new(integrator.space(), &scene.camera);
-    let options = RenderOptions {
-        width: 12,
-        height: 8,
-        samples: 16,
-        seed: 3,
-        time_limit: None,
-        noise_target: None,
-    };
-    render(
-        &integrator,
-        &camera,
-        &options,
-        &AtomicBool::new(false),
-        &|_, _| {},
-    )
-    .film
+    render_scene(scene, None, settings, &RenderOptions::new(12, 8, 16, 3))
+        .unwrap()
+        .film
 }
 
 #[test]

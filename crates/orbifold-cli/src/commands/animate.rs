@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::{Path as FilePath, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use num_complex::Complex64;
@@ -18,7 +18,9 @@ use orbifold_scene::animation::{Path, Pose};
 use serde::Serialize;
 
 use crate::args::AnimateArgs;
-use crate::commands::render::load;
+use crate::commands::render::{
+    check_image_args, denoises, finished, load, settings_and_options, thread_pool,
+};
 use crate::error::CliError;
 use crate::output;
 
@@ -165,20 +167,7 @@ fn check_numbers(args: &AnimateArgs) -> Result<String, CliError> {
             args.format
         )));
     }
-    if let Some(t) = args.time_limit
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(CliError::Input(format!(
-            "--time-limit {t}: expected a positive number of seconds per frame"
-        )));
-    }
-    if let Some(x) = args.noise_target
-        && !(x.is_finite() && x > 0.0)
-    {
-        return Err(CliError::Input(format!(
-            "--noise-target {x}: expected a positive number such as 0.02"
-        )));
-    }
+    check_image_args(&args.image)?;
     Ok(format)
 }
 
@@ -245,23 +234,10 @@ pub fn run(args: &AnimateArgs) -> Result<(), CliError> {
             count - 1
         )));
     }
-    let (width, height) = args
-        .size
-        .unwrap_or((scene.render.width, scene.render.height));
+    let (settings, options) = settings_and_options(&args.image, &scene);
     let job = Job {
-        settings: Settings {
-            max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
-            straight_rays: args.straight_rays,
-            ..Settings::default()
-        },
-        options: RenderOptions {
-            width,
-            height,
-            samples: args.spp.unwrap_or(scene.render.samples).max(1),
-            seed: args.seed,
-            time_limit: args.time_limit.map(Duration::from_secs_f64),
-            noise_target: args.noise_target,
-        },
+        settings,
+        options,
         scene,
         base,
         layout,
@@ -281,10 +257,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), CliError> {
         let cancel = cancel.clone();
         let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.map_or(0, |n| n as usize))
-        .build()
-        .map_err(|e| CliError::Input(format!("cannot start threads: {e}")))?;
+    let pool = thread_pool(args.image.threads)?;
     pool.install(|| animate(args, &job, &format, (first, last), &cancel))
 }
 
@@ -299,7 +272,7 @@ fn animate(
     let todo: Vec<u32> = (first..=last)
         .filter(|&i| args.force || !frame_file(&args.output, i, format).exists())
         .collect();
-    let exposure = match args.exposure {
+    let exposure = match args.image.exposure {
         Some(e) => Some(e),
         None if !todo.is_empty() && format != "exr" => Some(job.exposure(cancel)?),
         None => None,
@@ -366,8 +339,7 @@ fn animate(
                  again to go on"
             )));
         }
-        image
-            .film
+        finished(&image, denoises(&args.image, format))
             .write(&file, exposure.unwrap_or(0.0))
             .map_err(|e| CliError::Input(format!("cannot write {}: {e}", file.display())))?;
         rendered += 1;

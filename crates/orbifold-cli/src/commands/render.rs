@@ -9,12 +9,13 @@ use std::time::Duration;
 use indicatif::{ProgressBar, ProgressStyle};
 use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, denoise};
+use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{RenderOptions, Rendered, render};
 use orbifold_scene::Scene;
 use serde::Serialize;
 
-use crate::args::RenderArgs;
+use crate::args::{ImageArgs, RenderArgs};
 use crate::commands::scene::camera_position;
 use crate::error::CliError;
 use crate::output;
@@ -59,6 +60,72 @@ pub(crate) fn load(input: Option<&str>) -> Result<(Scene, Option<PathBuf>), CliE
     Ok((scene, None))
 }
 
+/// Checks the numbers of the shared image options.
+pub(crate) fn check_image_args(args: &ImageArgs) -> Result<(), CliError> {
+    let bad = |option: &str, value: f64, wanted: &str| {
+        Err(CliError::Input(format!(
+            "{option} {value}: expected {wanted}"
+        )))
+    };
+    match (args.time_limit, args.noise_target, args.glow) {
+        (Some(t), _, _) if !(t.is_finite() && t > 0.0) => {
+            bad("--time-limit", t, "a positive number of seconds")
+        }
+        (_, Some(x), _) if !(x.is_finite() && x > 0.0) => {
+            bad("--noise-target", x, "a positive number such as 0.02")
+        }
+        (_, _, Some(g)) if !(g.is_finite() && g >= 0.0) => {
+            bad("--glow", g, "a radiance of 0 or more, such as 0.2")
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The light transport settings and render options of the shared image options, with the
+/// scene's `[render]` table for what they leave out.
+pub(crate) fn settings_and_options(args: &ImageArgs, scene: &Scene) -> (Settings, RenderOptions) {
+    let settings = Settings {
+        max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
+        nee: !args.no_nee,
+        glow: [args.glow.unwrap_or(0.0); 3],
+        straight_rays: args.straight_rays,
+    };
+    let (width, height) = args
+        .size
+        .unwrap_or((scene.render.width, scene.render.height));
+    let options = RenderOptions {
+        width,
+        height,
+        samples: args.spp.unwrap_or(scene.render.samples).max(1),
+        seed: args.seed,
+        time_limit: args.time_limit.map(Duration::from_secs_f64),
+        noise_target: args.noise_target,
+    };
+    (settings, options)
+}
+
+/// Whether to denoise an image written with this extension (lower case).
+pub(crate) fn denoises(args: &ImageArgs, extension: &str) -> bool {
+    args.denoise || (!args.no_denoise && extension != "exr")
+}
+
+/// The image to write: the film, denoised or not.
+pub(crate) fn finished(rendered: &Rendered, denoised: bool) -> Film {
+    if denoised {
+        denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default())
+    } else {
+        rendered.film.clone()
+    }
+}
+
+/// A pool of `threads` workers (all cores when absent).
+pub(crate) fn thread_pool(threads: Option<u32>) -> Result<rayon::ThreadPool, CliError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.map_or(0, |n| n as usize))
+        .build()
+        .map_err(|e| CliError::Input(format!("cannot start threads: {e}")))
+}
+
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let extension = args
         .output
@@ -71,48 +138,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    if let Some(t) = args.time_limit
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(CliError::Input(format!(
-            "--time-limit {t}: expected a positive number of seconds"
-        )));
-    }
-    if let Some(x) = args.noise_target
-        && !(x.is_finite() && x > 0.0)
-    {
-        return Err(CliError::Input(format!(
-            "--noise-target {x}: expected a positive number such as 0.02"
-        )));
-    }
-    if let Some(g) = args.glow
-        && !(g.is_finite() && g >= 0.0)
-    {
-        return Err(CliError::Input(format!(
-            "--glow {g}: expected a radiance of 0 or more, such as 0.2"
-        )));
-    }
+    check_image_args(&args.image)?;
     let (scene, base) = load(args.input.as_deref())?;
-    let settings = Settings {
-        max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
-        nee: !args.no_nee,
-        glow: [args.glow.unwrap_or(0.0); 3],
-        straight_rays: args.straight_rays,
-    };
+    let (settings, options) = settings_and_options(&args.image, &scene);
+    let (width, height) = (options.width, options.height);
     let integrator =
         Integrator::from_scene(&scene, base.as_deref(), settings).map_err(CliError::Input)?;
     let camera = Camera::new(integrator.space(), &scene.camera);
-    let (width, height) = args
-        .size
-        .unwrap_or((scene.render.width, scene.render.height));
-    let options = RenderOptions {
-        width,
-        height,
-        samples: args.spp.unwrap_or(scene.render.samples).max(1),
-        seed: args.seed,
-        time_limit: args.time_limit.map(Duration::from_secs_f64),
-        noise_target: args.noise_target,
-    };
 
     let cancel = Arc::new(AtomicBool::new(false));
     {
@@ -131,10 +163,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         )
         .expect("a valid template"),
     );
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.map_or(0, |n| n as usize))
-        .build()
-        .map_err(|e| CliError::Input(format!("cannot start threads: {e}")))?;
+    let pool = thread_pool(args.image.threads)?;
     let rendered = pool.install(|| {
         render(&integrator, &camera, &options, &cancel, &|done, _| {
             bar.set_position(u64::from(done));
@@ -142,14 +171,11 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     });
     bar.finish_and_clear();
     let exposure = args
+        .image
         .exposure
         .unwrap_or_else(|| rendered.film.auto_exposure());
-    let denoised = args.denoise || (!args.no_denoise && extension.as_deref() != Some("exr"));
-    let image = if denoised {
-        denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default())
-    } else {
-        rendered.film.clone()
-    };
+    let denoised = denoises(&args.image, extension.as_deref().unwrap_or(""));
+    let image = finished(&rendered, denoised);
     image
         .write(&args.output, exposure)
         .map_err(|e| CliError::Input(format!("cannot write {}: {e}", args.output.display())))?;
