@@ -745,7 +745,11 @@ impl Integrator {
         let entry = self.entries[index];
         let light = &self.lights[entry.light];
         let image = &self.images.images[entry.image];
-        let Some(point) = light.sample_point(space, sampler.next_f64(), sampler.next_2d()) else {
+        // The point to light, seen from the light's own copy of the room (the long way round
+        // arrives from the other side: every triangle is a candidate then).
+        let from = (!entry.long_way).then(|| (image.inverse * x, h));
+        let Some(point) = light.sample_point(space, sampler.next_f64(), sampler.next_2d(), from)
+        else {
             return [0.0; 3];
         };
         let target = image.isometry * point.x;
@@ -821,7 +825,8 @@ impl Integrator {
         let Some(index) = self.entry_index(light, image, long_way) else {
             return 0.0;
         };
-        let pdf_area = self.lights[light].pdf_area(space, triangle, w);
+        let from = (!long_way).then(|| (self.images.images[image].inverse * x, h));
+        let pdf_area = self.lights[light].pdf_area(space, triangle, w, from);
         let j = spread(space, march.length, sigma);
         self.pmf_at(x, h, up, index) * pdf_area * j / cos_out.abs().max(1e-12)
     }

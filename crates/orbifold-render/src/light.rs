@@ -198,6 +198,8 @@ pub fn reflection_matrix(space: Space, nu: DVec3) -> DMat3 {
 pub struct Image {
     /// g, as an ambient matrix (the product of the wall reflections, first wall first).
     pub isometry: DMat3,
+    /// g⁻¹.
+    pub inverse: DMat3,
     /// g applied to the room's centre (identifies the tile).
     pub key: DVec3,
     /// The largest product of mirror reflectances a path into this tile can carry.
@@ -265,6 +267,7 @@ impl ImageSet {
         let mut set = ImageSet {
             images: vec![Image {
                 isometry: DMat3::IDENTITY,
+                inverse: DMat3::IDENTITY,
                 key: centre,
                 reflectance: [1.0; 3],
                 depth: 0,
@@ -291,6 +294,7 @@ impl ImageSet {
                 }
                 set.images.push(Image {
                     isometry,
+                    inverse: isometry.inverse(),
                     key,
                     reflectance,
                     depth: image.depth + 1,
@@ -348,6 +352,114 @@ impl ImageSet {
     }
 }
 
+/// What lets light sampling skip the triangles of a sphere light that face away from the point
+/// being lit (half of them, which could only ever give zero), in the tangent space at the light
+/// mesh's origin (object coordinates).
+///
+/// A triangle whose centroid is `a` and outward normal `n` (local coordinates) is kept for the
+/// point `b` when n·(b − a) > −m (d + r), with d the distance of `b` from the sphere's centre, r
+/// the sphere's radius and m = 0.05 + r²: a margin for the triangles' extent and for the
+/// curvature over the light, so that no triangle that faces `b` is left out. Points within 1.05 r
+/// of the centre keep every triangle.
+#[derive(Clone, Debug)]
+pub struct Facing {
+    frame: TangentFrame,
+    centre: DVec3,
+    radius: f64,
+    normals: Vec<DVec3>,
+    offsets: Vec<f64>,
+}
+
+impl Facing {
+    fn new(space: Space, instance: &Instance) -> Option<Facing> {
+        let origin = DVec3::Z;
+        let frame = TangentFrame::at(space, origin);
+        let (points, heights, triangles) = instance.bvh.mesh();
+        let local = |i: u32| {
+            let i = i as usize;
+            frame.to_local(space, space.log(origin, points[i]), heights[i])
+        };
+        let centroids: Vec<DVec3> = triangles
+            .iter()
+            .map(|t| (local(t[0]) + local(t[1]) + local(t[2])) / 3.0)
+            .collect();
+        let centre = centroids.iter().copied().sum::<DVec3>() / centroids.len().max(1) as f64;
+        // The triangles' own (flat) normals, outwards: within a triangle n·(b − p) is the same
+        // for every point p, up to the curvature over the light.
+        let normals: Vec<DVec3> = triangles
+            .iter()
+            .zip(&centroids)
+            .map(|(t, a)| {
+                let n = (local(t[1]) - local(t[0]))
+                    .cross(local(t[2]) - local(t[0]))
+                    .normalize_or_zero();
+                if n.dot(*a - centre) < 0.0 { -n } else { n }
+            })
+            .collect();
+        let radius = centroids
+            .iter()
+            .map(|a| (*a - centre).length())
+            .fold(0.0, f64::max);
+        let offsets = normals
+            .iter()
+            .zip(&centroids)
+            .map(|(n, a)| n.dot(*a))
+            .collect();
+        (radius > 0.0 && radius.is_finite()).then_some(Facing {
+            frame,
+            centre,
+            radius,
+            normals,
+            offsets,
+        })
+    }
+
+    /// The point (object coordinates) in the local coordinates of the triangles, or `None` when
+    /// every triangle is kept.
+    fn local(&self, space: Space, (x, h): (DVec3, f64)) -> Option<DVec3> {
+        let b = self.frame.to_local(space, space.log(DVec3::Z, x), h);
+        let d = (b - self.centre).length();
+        (b.is_finite() && d > 1.05 * self.radius).then_some(b)
+    }
+
+    /// The margin for the local point `b`.
+    fn margin(&self, b: DVec3) -> f64 {
+        (0.05 + self.radius * self.radius) * ((b - self.centre).length() + self.radius)
+    }
+
+    /// Whether triangle `i` is kept for the local point `b` with margin `margin`.
+    #[inline]
+    fn keeps(&self, i: usize, b: DVec3, margin: f64) -> bool {
+        self.normals[i].dot(b) - self.offsets[i] > -margin
+    }
+}
+
+impl Emitter {
+    /// The emitter with [`Facing`] for a sphere light's mesh.
+    fn with_facing(self, space: Space) -> Emitter {
+        match self {
+            Emitter::Area {
+                radiance,
+                instance,
+                areas,
+                pick,
+                total_area,
+                two_sided,
+                ..
+            } => Emitter::Area {
+                facing: Facing::new(space, &instance),
+                radiance,
+                instance,
+                areas,
+                pick,
+                total_area,
+                two_sided,
+            },
+            other => other,
+        }
+    }
+}
+
 /// How a light emits.
 #[derive(Clone, Debug)]
 // A scene has a handful of lights: their size does not matter, one indirection per sample does.
@@ -377,6 +489,8 @@ pub enum Emitter {
         areas: Vec<f64>,
         /// Picks a triangle ∝ its area.
         pick: Distribution1d,
+        /// For a sphere light: which triangles can face a point.
+        facing: Option<Facing>,
         /// Their total.
         total_area: f64,
         /// Emits from both sides (spheres) or only the front (rectangles).
@@ -446,8 +560,9 @@ impl Light {
                         }
                     }
                     LightKind::Sphere => {
-                        let mesh = orbifold_scene::mesh::procedural::builtin("sphere")
-                            .ok_or("no built-in sphere")?;
+                        // Coarser than the built-in object sphere: light sampling scans the
+                        // triangles that face the lit point, 384 here.
+                        let mesh = orbifold_scene::mesh::procedural::uv_sphere(0.5, 16, 12);
                         let centre =
                             orbifold::embed::centre_of_mass(&mesh.positions, &mesh.triangles);
                         let (lo, hi) = mesh.bounds().ok_or("empty sphere")?;
@@ -463,6 +578,7 @@ impl Light {
                             power,
                             true,
                         )
+                        .map(|e| e.with_facing(space))
                         .map_err(|e| format!("lights[{i}]: {e}"))?
                     }
                     LightKind::Rectangle => {
@@ -497,13 +613,50 @@ impl Light {
         !matches!(self.emitter, Emitter::Area { .. })
     }
 
-    /// Samples a point on the light (the centre for point lights) with uniforms `u`, `v`.
-    pub fn sample_point(&self, space: Space, u: f64, v: (f64, f64)) -> Option<LightPoint> {
+    /// For a sphere light and a lit point `from` (world coordinates, in the light's own copy of
+    /// the room: the image's inverse applied), the point in the local coordinates of
+    /// [`Facing`], its margin and the total area of the triangles kept for it; `None` when every
+    /// triangle is a candidate.
+    fn kept(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(DVec3, f64, f64)> {
+        let (
+            Emitter::Area {
+                instance,
+                areas,
+                facing: Some(facing),
+                ..
+            },
+            Some((x, h)),
+        ) = (&self.emitter, from)
+        else {
+            return None;
+        };
+        let b = facing.local(space, (instance.to_object * x, h - instance.height))?;
+        let margin = facing.margin(b);
+        let total: f64 = areas
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| facing.keeps(i, b, margin))
+            .map(|(_, a)| a)
+            .sum();
+        (total > 0.0).then_some((b, margin, total))
+    }
+
+    /// Samples a point on the light (the centre for point lights) with uniforms `u`, `v`. With
+    /// `from`, the point to be lit (world coordinates in the light's own copy of the room), a
+    /// sphere light picks only among its triangles that can face it.
+    pub fn sample_point(
+        &self,
+        space: Space,
+        u: f64,
+        v: (f64, f64),
+        from: Option<(DVec3, f64)>,
+    ) -> Option<LightPoint> {
         let Emitter::Area {
             instance,
             areas,
             total_area,
             pick,
+            facing,
             ..
         } = &self.emitter
         else {
@@ -514,8 +667,29 @@ impl Light {
                 triangle: None,
             });
         };
-        // Pick a triangle ∝ area (binary search: a sphere light has thousands).
-        let (index, _) = pick.sample(u);
+        let (index, probability) = match (self.kept(space, from), facing) {
+            (Some((b, margin, kept)), Some(facing)) => {
+                // A linear scan over the kept triangles (their set changes with the point).
+                let mut target = u * kept;
+                let mut chosen = None;
+                for (i, a) in areas.iter().enumerate() {
+                    if facing.keeps(i, b, margin) {
+                        chosen = Some(i);
+                        if target < *a {
+                            break;
+                        }
+                        target -= a;
+                    }
+                }
+                let i = chosen?;
+                (i, areas[i] / kept)
+            }
+            // Pick a triangle ∝ area (binary search: a sphere light has thousands).
+            _ => {
+                let (i, _) = pick.sample(u);
+                (i, areas[i] / total_area)
+            }
+        };
         let root = v.0.sqrt();
         let w = [1.0 - root, root * (1.0 - v.1), root * v.1];
         let triangle = instance.bvh.triangle(index as u32);
@@ -527,29 +701,45 @@ impl Light {
         Some(LightPoint {
             x: instance.to_world * x,
             h: h + instance.height,
-            pdf_area: areas[index] / total_area * 2.0 / jacobian,
+            pdf_area: probability * 2.0 / jacobian,
             triangle: Some((index as u32, w)),
         })
     }
 
     /// The density per unit area with which [`Light::sample_point`] picks the point of triangle
-    /// `triangle` at barycentrics `w` (area lights).
-    pub fn pdf_area(&self, space: Space, triangle: u32, w: [f64; 3]) -> f64 {
+    /// `triangle` at barycentrics `w` (area lights) for the lit point `from`.
+    pub fn pdf_area(
+        &self,
+        space: Space,
+        triangle: u32,
+        w: [f64; 3],
+        from: Option<(DVec3, f64)>,
+    ) -> f64 {
         let Emitter::Area {
             instance,
             areas,
             total_area,
+            facing,
             ..
         } = &self.emitter
         else {
             return 0.0;
+        };
+        let probability = match (self.kept(space, from), facing) {
+            (Some((b, margin, kept)), Some(facing)) => {
+                if !facing.keeps(triangle as usize, b, margin) {
+                    return 0.0;
+                }
+                areas[triangle as usize] / kept
+            }
+            _ => areas[triangle as usize] / total_area,
         };
         let t = instance.bvh.triangle(triangle);
         let jacobian = area_jacobian(space, &t.points, &t.heights, w);
         if jacobian <= 0.0 {
             return 0.0;
         }
-        areas[triangle as usize] / total_area * 2.0 / jacobian
+        probability * 2.0 / jacobian
     }
 
     /// Radiant intensity (point lights) or radiance (area lights) leaving towards the local
@@ -675,6 +865,7 @@ pub(crate) fn mesh_emitter(
         instance,
         areas,
         pick,
+        facing: None,
         total_area,
         two_sided,
     })

@@ -234,3 +234,82 @@ fn geometric_term_integrates_to_the_solid_angle_it_covers() {
         }
     }
 }
+
+#[test]
+fn sphere_lights_sample_every_triangle_that_faces_the_point() {
+    // Light sampling keeps only the triangles of a sphere light that can face the lit point:
+    // each one that does face it (its normal against the geodesic to the point, measured
+    // exactly) must keep a positive density, and the kept triangles' probabilities add up to 1.
+    use orbifold_render::light::{Emitter, Light};
+    use orbifold_scene::LightKind;
+    for signature in ["*235", "*333", "*2223"] {
+        let mut scene = Scene::default();
+        scene.orbifold.signature = signature.into();
+        let layout = scene.layout().unwrap();
+        let c = layout.centre;
+        let light = &mut scene.lights[0];
+        light.kind = LightKind::Sphere;
+        light.at = [c.re, c.im];
+        light.height = 0.6;
+        light.radius = 0.15;
+        let space = layout.space();
+        let lights = Light::from_scene(space, &scene).unwrap();
+        let Emitter::Area { instance, .. } = &lights[0].emitter else {
+            panic!("a sphere light is an area light")
+        };
+        let triangles = instance.bvh.triangle_count() as u32;
+        for k in 0..12 {
+            let angle = TAU * f64::from(k) / 12.0;
+            let reach = [0.17, 0.3, 0.6][k as usize % 3];
+            let z = c + num_complex::Complex64::from_polar(0.5 * reach, angle);
+            let (x, h) = (space.to_ambient(z), [0.1, 0.6, 0.95][k as usize % 3]);
+            let third = [1.0 / 3.0; 3];
+            let mut total = 0.0;
+            for (t, corner) in (0..triangles).flat_map(|t| (0..4).map(move |c| (t, c))) {
+                // The centroid and points near each corner.
+                let barycentric = match corner {
+                    0 => third,
+                    c => {
+                        let mut w = [0.01; 3];
+                        w[c - 1] = 0.98;
+                        w
+                    }
+                };
+                let hit = TriangleHit {
+                    s: 0.0,
+                    triangle: t,
+                    barycentric,
+                };
+                let (p, hp) = instance.point(space, &hit);
+                let pdf = lights[0].pdf_area(space, t, barycentric, Some((x, h)));
+                if corner == 0 {
+                    let triangle = instance.bvh.triangle(t);
+                    let jacobian = orbifold_render::light::area_jacobian(
+                        space,
+                        &triangle.points,
+                        &triangle.heights,
+                        third,
+                    );
+                    total += pdf * 0.5 * jacobian;
+                }
+                let frame = TangentFrame::at(space, p);
+                let Some(link) = connect(space, &frame, (p, hp), (x, h), false) else {
+                    continue;
+                };
+                let towards = travel_direction(space, &frame, &link.ray, 0.0);
+                let (nh, nv) = instance.normal(space, &hit).unwrap();
+                let normal = frame.to_local(space, nh, nv);
+                if normal.dot(towards) > 1e-9 {
+                    assert!(
+                        pdf > 0.0,
+                        "{signature}: triangle {t} faces point {k} but is never sampled"
+                    );
+                }
+            }
+            assert!(
+                (total - 1.0).abs() < 1e-9,
+                "{signature}: probabilities add up to {total}"
+            );
+        }
+    }
+}
