@@ -70,15 +70,17 @@ Examples:
   orbifold render examples/scenes/fig-1.2-333.toml -o room.exr --spp 256
   orbifold render '*2223' --size 320x240 --time-limit 30 -o quick.png
   orbifold render scene.toml --no-nee --spp 4096 -o reference.exr
+  orbifold render '*2223' --straight-rays -o flat.png   # as if space were flat, to compare
 
 The image refines in passes of one sample per pixel; a progress bar shows the time left. The
 time limit or Ctrl-C stops after the current pass and writes the image so far. The image is the
 same for a given --seed whatever the number of threads. A bare signature renders the default
 room of that orbifold (every wall a mirror, a figure in the middle, a light, the camera three
-quarters of the way to the -x wall).
+quarters of the way to the -x wall). PNG and JPEG images are denoised (guided by what each pixel
+saw first); EXR keeps the raw estimate. docs/rendering.md explains the light transport.
 
 --json prints {\"output\", \"width\", \"height\", \"samples\", \"seconds\", \"stopped_early\",
-\"relative_noise\", \"dropped_samples\", \"exposure\"}.";
+\"relative_noise\", \"dropped_samples\", \"exposure\", \"denoised\"}.";
 
 /// How an image is rendered: what `render` and `animate` share.
 #[derive(Debug, Args)]

@@ -7,8 +7,9 @@
 //! texture (the checkerboard floor, marble veins), and multiplied back at the end. Five passes
 //! of a 5×5 B3-spline kernel with holes (steps 1, 2, 4, 8, 16: a 61×61 footprint) weigh each
 //! neighbour by how alike the two pixels' normals, depths and albedos are, and by how far its
-//! lighting is from the pixel's in units of the pixel's standard error — so that edges,
-//! mirror-image boundaries and well-converged detail survive while noise is averaged away.
+//! lighting is from the pixel's in units of the standard error around it (the variance blurred
+//! over 3×3 pixels) — so that edges, mirror-image boundaries and well-converged detail survive
+//! while noise is averaged away.
 //!
 //! Denoising trades noise for bias (blur where the guides cannot tell surfaces apart); the
 //! renderer's tests check its estimates before any filtering.
