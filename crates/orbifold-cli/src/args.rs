@@ -62,6 +62,76 @@ pub enum Command {
     /// rendered in slices on many machines; existing frames are skipped.
     #[command(after_help = ANIMATE_EXAMPLES)]
     Animate(AnimateArgs),
+    /// Draw the real-time preview offscreen: the room and its mirror copies rasterised on the
+    /// GPU with the non-Euclidean projection (no ray tracing). Works on a software adapter.
+    #[command(after_help = PREVIEW_EXAMPLES)]
+    Preview(PreviewArgs),
+}
+
+const PREVIEW_EXAMPLES: &str = "\
+Examples:
+  orbifold preview                                  # the built-in default scene to preview.png
+  orbifold preview examples/scenes/fig-1.2-333.toml --depth 12 --size 1280x720
+  orbifold preview '*2352' --straight -o flat.png   # as if space were flat, to compare
+  orbifold preview '*2223' --attenuation translations -o translations.png
+  orbifold preview scene.toml --yaw 30 --pitch -10 --json
+
+Every copy of the room under the reflection group up to --depth reflections (the whole group on
+the sphere) is drawn as a GPU instance; each vertex is mapped by the logarithm map of S²×R, E²×R
+or H²×R at the eye and then projected like an ordinary pinhole camera, so the picture is what a
+person in the mirror room would see, without tracing a ray. Mirrors show as faint glass. On the
+sphere both images of each point are drawn: the short and the long way round. Without a GPU the
+preview runs on Mesa's software Vulkan driver (Debian: mesa-vulkan-drivers libvulkan1).
+
+--json prints {\"output\", \"width\", \"height\", \"adapter\", \"copies\", \"instances\",
+\"triangles_per_copy\", \"triangles\", \"seconds\"}.";
+
+#[derive(Debug, Args)]
+pub struct PreviewArgs {
+    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    #[arg(value_name = "SCENE|SIG")]
+    pub input: Option<String>,
+    /// The picture to write (.png or .jpg).
+    #[arg(short, long, value_name = "FILE", default_value = "preview.png")]
+    pub output: std::path::PathBuf,
+    /// Image size.
+    #[arg(long, value_name = "WxH", default_value = "960x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// How many reflections deep the copies go (default: the scene's `[preview] depth`).
+    #[arg(long, value_name = "D")]
+    pub depth: Option<u32>,
+    /// How copies fade: reflectance (as in a real mirror room), orbifold (the room bright),
+    /// translations (copies that are not mirror images bright) or universal (all alike).
+    #[arg(long, value_name = "MODE", value_parser = parse_attenuation)]
+    pub attenuation: Option<orbifold_scene::Attenuation>,
+    /// Project as if space were flat (the model picture), to compare with the true geodesics.
+    #[arg(long)]
+    pub straight: bool,
+    /// Draw every copy, also those that cannot be in view.
+    #[arg(long)]
+    pub no_cull: bool,
+    /// Turn the camera to this bearing (degrees from the model's +x, counter-clockwise).
+    #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
+    pub yaw: Option<f64>,
+    /// Tilt the camera to this elevation (degrees).
+    #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
+    pub pitch: Option<f64>,
+    /// Print a JSON summary instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_attenuation(s: &str) -> Result<orbifold_scene::Attenuation, String> {
+    use orbifold_scene::Attenuation;
+    match s.to_ascii_lowercase().as_str() {
+        "reflectance" => Ok(Attenuation::Reflectance),
+        "orbifold" => Ok(Attenuation::Orbifold),
+        "translations" => Ok(Attenuation::Translations),
+        "universal" => Ok(Attenuation::Universal),
+        _ => Err(format!(
+            "{s:?}: expected reflectance, orbifold, translations or universal"
+        )),
+    }
 }
 
 const RENDER_EXAMPLES: &str = "\

@@ -28,6 +28,7 @@ fn main() -> ExitCode {
         Command::Trace(args) => commands::trace::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Animate(args) => commands::animate::run(&args),
+        Command::Preview(args) => commands::preview::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

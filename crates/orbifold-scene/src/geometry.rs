@@ -8,7 +8,7 @@ use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::Layout;
 use orbifold::cover::Tile;
-use orbifold::embed::{Placement, centre_of_mass, embed, place};
+use orbifold::embed::{Embedded, Placement, centre_of_mass, embed, place};
 use orbifold::room::wall::WallRect;
 use orbifold::room::{FloorMethod, RoomMesher, RoomOptions, Surface};
 
@@ -154,6 +154,19 @@ impl Scene {
     pub fn geometry(&self, base: Option<&Path>) -> Result<RoomGeometry, String> {
         let layout = self.layout()?;
         let mesher = self.room_mesher(&layout)?;
+        let mut parts = self.room_parts(&layout, &mesher);
+        for i in 0..self.objects.len() {
+            parts.push(self.object_part(&layout, i, base)?);
+        }
+        Ok(RoomGeometry {
+            layout,
+            mesher,
+            parts,
+        })
+    }
+
+    /// The room's own parts: floor, ceiling, then each wall's mirrors and plain part.
+    pub fn room_parts(&self, layout: &Layout, mesher: &RoomMesher) -> Vec<Part> {
         let floor = mesher.floor();
         let mut ceiling = floor.clone();
         ceiling
@@ -178,16 +191,9 @@ impl Scene {
             },
         ];
         for wall in 0..layout.edges.len() {
-            parts.extend(self.wall_parts(&mesher, wall));
+            parts.extend(self.wall_parts(mesher, wall));
         }
-        for i in 0..self.objects.len() {
-            parts.push(self.object_part(&layout, i, base)?);
-        }
-        Ok(RoomGeometry {
-            layout,
-            mesher,
-            parts,
-        })
+        parts
     }
 
     /// A wall cut along every mirror's edges into a grid of cells; each cell is part of the first
@@ -252,11 +258,18 @@ impl Scene {
         parts
     }
 
-    /// Object `i` embedded at its centre of mass, scaled to its size and placed.
-    fn object_part(&self, layout: &Layout, i: usize, base: Option<&Path>) -> Result<Part, String> {
+    /// Object `i` embedded at its centre of mass and scaled to its size, not yet placed: its
+    /// points, heights and triangles, and the placement the scene gives it. Placing is an
+    /// isometry and a height offset ([`Placement::isometry`]), so a moved object needs no new
+    /// embedding.
+    pub fn embedded_object(
+        &self,
+        layout: &Layout,
+        i: usize,
+        base: Option<&Path>,
+    ) -> Result<(Embedded, Vec<[u32; 3]>, Placement), String> {
         let object = &self.objects[i];
         let mesh = self.object_mesh(i, base)?;
-        let space = layout.space();
         let (lo, hi) = mesh
             .bounds()
             .ok_or_else(|| format!("objects[{i}]: the mesh is empty"))?;
@@ -265,13 +278,30 @@ impl Scene {
             return Err(format!("objects[{i}]: the mesh has no extent"));
         }
         let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
-        let embedded = embed(space, &mesh.positions, centre, object.size / extent);
-        let placement = Placement {
+        let embedded = embed(
+            layout.space(),
+            &mesh.positions,
+            centre,
+            object.size / extent,
+        );
+        Ok((embedded, mesh.triangles, self.object_placement(i)))
+    }
+
+    /// Where object `i` stands: its model position, height and yaw (radians).
+    pub fn object_placement(&self, i: usize) -> Placement {
+        let object = &self.objects[i];
+        Placement {
             at: Complex64::new(object.at[0], object.at[1]),
             height: object.height,
             yaw: object.yaw.to_radians(),
-        };
-        let placed = place(space, &embedded, &placement);
+        }
+    }
+
+    /// Object `i` embedded at its centre of mass, scaled to its size and placed.
+    fn object_part(&self, layout: &Layout, i: usize, base: Option<&Path>) -> Result<Part, String> {
+        let object = &self.objects[i];
+        let (embedded, triangles, placement) = self.embedded_object(layout, i, base)?;
+        let placed = place(layout.space(), &embedded, &placement);
         Ok(Part {
             name: self.object_name(i),
             kind: PartKind::Object(i),
@@ -280,7 +310,7 @@ impl Scene {
             surface: Surface {
                 points: placed.points,
                 heights: placed.heights,
-                triangles: mesh.triangles,
+                triangles,
             },
         })
     }

@@ -5,6 +5,7 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod preview;
 pub mod render;
 pub mod room;
 pub mod scene;

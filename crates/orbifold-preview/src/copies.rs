@@ -1,0 +1,141 @@
+//! The mirror copies of the room: one per element of the reflection group up to a word length,
+//! each with the brightness its attenuation setting gives it (seed Fig. 8.6).
+//!
+//! In a real mirror room a copy is seen through the mirrors its light crossed, so it is as bright
+//! as the product of their reflectances. The preview gives each copy the product along one
+//! reduced word of its group element (the walls crossed, in order, by a gallery from the room).
+//! Where two walls meet at an odd corner, a line of the tiling is made of copies of both, so
+//! rays to one copy may cross different mirrors; the preview's brightness is then that of one
+//! of them, which is what a preview needs.
+
+use glam::{DMat3, DVec3};
+use orbifold::cover::{Bound, Cover, CoverError, Tile, reflection};
+use orbifold::{Geometry, Layout};
+use orbifold_scene::{Attenuation, Color};
+
+/// How faint the copies that an emphasis setting plays down are.
+pub const FAINT: f64 = 0.22;
+
+/// One copy of the room.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Copy {
+    /// The group element, as a 3×3 matrix on ambient coordinates.
+    pub matrix: DMat3,
+    /// Its word length (0 for the room itself).
+    pub depth: u32,
+    /// Whether it is a mirror image (odd word length).
+    pub reflected: bool,
+    /// Its brightness per colour channel.
+    pub tint: Color,
+}
+
+/// Every copy of the room up to word length `depth` (every copy for a finite spherical group,
+/// whatever the depth), tinted by `attenuation`. `reflectances[i]` is what wall i's mirrors
+/// reflect (1 for a wall without a mirror, whose copies it hides anyway).
+///
+/// ```
+/// use orbifold::{Layout, LayoutOptions};
+/// use orbifold_preview::copies::copies;
+/// use orbifold_scene::Attenuation;
+/// let layout = Layout::new(&"*2222222".parse()?, &LayoutOptions::default())?;
+/// let all = copies(&layout, 2, &[[0.5; 3]; 7], Attenuation::Reflectance)?;
+/// assert_eq!(all.len(), 1 + 7 + 35);
+/// // Two reflections at 0.5 each.
+/// assert!(all.iter().filter(|c| c.depth == 2).all(|c| (c.tint[0] - 0.25).abs() < 1e-12));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn copies(
+    layout: &Layout,
+    depth: u32,
+    reflectances: &[Color],
+    attenuation: Attenuation,
+) -> Result<Vec<Copy>, CoverError> {
+    let bound = match layout.space().geometry() {
+        Geometry::Spherical => Bound::All,
+        _ => Bound::Depth(depth as usize),
+    };
+    let cover = Cover::enumerate_layout(layout.clone(), bound, true)?;
+    let words = Words::new(layout);
+    Ok(cover
+        .tiles
+        .iter()
+        .map(|tile| Copy {
+            matrix: tile.matrix,
+            depth: tile.depth,
+            reflected: tile.reflected,
+            tint: tint(&words, tile, reflectances, attenuation),
+        })
+        .collect())
+}
+
+/// The brightness of a tile under an attenuation setting.
+fn tint(words: &Words, tile: &Tile, reflectances: &[Color], attenuation: Attenuation) -> Color {
+    let faint = [FAINT; 3];
+    match attenuation {
+        Attenuation::Universal => [1.0; 3],
+        Attenuation::Orbifold if tile.depth > 0 => faint,
+        Attenuation::Translations if tile.reflected => faint,
+        Attenuation::Orbifold | Attenuation::Translations => [1.0; 3],
+        Attenuation::Reflectance => words.word(tile).iter().fold([1.0; 3], |acc, &wall| {
+            let r = reflectances.get(wall as usize).copied().unwrap_or([1.0; 3]);
+            [acc[0] * r[0], acc[1] * r[1], acc[2] * r[2]]
+        }),
+    }
+}
+
+/// Reduced words of tiles, found by walking back to the room across descents.
+struct Words {
+    walls: Vec<DVec3>,
+    reflections: Vec<DMat3>,
+    kappa: f64,
+    /// An interior point of the room (ambient).
+    centre: DVec3,
+}
+
+impl Words {
+    fn new(layout: &Layout) -> Words {
+        let space = layout.space();
+        let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
+        Words {
+            reflections: walls.iter().map(|&w| reflection(space, w)).collect(),
+            walls,
+            kappa: space.kappa(),
+            centre: space.to_ambient(layout.centre),
+        }
+    }
+
+    /// The walls crossed from the room to `tile`, last first: the tile's own `wall`, then at
+    /// each step a wall of the current tile with the room's centre on its far side.
+    fn word(&self, tile: &Tile) -> Vec<u32> {
+        let mut letters = Vec::with_capacity(tile.depth as usize);
+        let mut m = tile.matrix;
+        let mut next = tile.wall;
+        for _ in 0..tile.depth {
+            let Some(wall) = next.or_else(|| self.descent(&m)) else {
+                break;
+            };
+            letters.push(wall);
+            m *= self.reflections[wall as usize];
+            next = None;
+        }
+        letters
+    }
+
+    /// The wall of the tile `m` that is most clearly between it and the room.
+    fn descent(&self, m: &DMat3) -> Option<u32> {
+        let inverse = if self.kappa == 0.0 {
+            m.inverse()
+        } else {
+            let g = DMat3::from_diagonal(DVec3::new(1.0, 1.0, self.kappa));
+            g * m.transpose() * g
+        };
+        let q = inverse * self.centre;
+        self.walls
+            .iter()
+            .enumerate()
+            .map(|(i, nu)| (i, nu.dot(q)))
+            .filter(|&(_, v)| v < 0.0)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i as u32)
+    }
+}

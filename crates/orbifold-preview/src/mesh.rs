@@ -1,0 +1,312 @@
+//! The room and its objects as GPU-ready triangle lists: vertices in ambient coordinates with
+//! heights, pattern coordinates, and the index of their part in the part table.
+//!
+//! Objects are kept in their own frames (embedded at the origin, DESIGN.md §7) and placed by a
+//! transform in the part table, so moving one uploads 64 bytes. Their parts come first in the
+//! table, so that rebuilding the room (a new layout) leaves the objects' indices alone.
+
+use std::ops::Range;
+use std::path::Path;
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use num_complex::Complex64;
+use orbifold::Layout;
+use orbifold::embed::Placement;
+use orbifold::room::{RoomMesher, Surface};
+use orbifold::space::Space;
+use orbifold_scene::geometry::{Part, PartKind, representative};
+use orbifold_scene::{Color, Coordinates, Material, Scene};
+
+/// How much of the mirror's colour the room's own mirrors lay over what is seen through them
+/// (copies' mirrors show only their frames, so that far copies do not fog over).
+pub const MIRROR_ALPHA: f32 = 0.06;
+
+/// One vertex as the shader reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Vertex {
+    /// Ambient coordinates of the horizontal position (in the object's own frame for objects).
+    pub position: [f32; 3],
+    /// Height.
+    pub height: f32,
+    /// Coordinates of the surface pattern (a checkerboard's squares).
+    pub pattern: [f32; 3],
+    /// The index of the vertex's part in the part table.
+    pub part: u32,
+}
+
+/// One entry of the part table: how a part looks and where it stands.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PartStyle {
+    /// The colour (linear RGB); `w` is the checkerboard's square size, 0 for a plain colour.
+    pub color: [f32; 4],
+    /// The checkerboard's second colour; `w` is the opacity (1, or [`MIRROR_ALPHA`]).
+    pub second: [f32; 4],
+    /// The part's placement: columns of an ambient isometry; `transform[0][3]` is the height
+    /// offset.
+    pub transform: [[f32; 4]; 3],
+    /// The surface code of the tracer's surface-id AOV: 0 floor, 1 ceiling, 2 + i wall i,
+    /// 1000 + i object i.
+    pub code: i32,
+    /// 1 for a mirror, 0 for an opaque part.
+    pub mirror: u32,
+    /// Padding to a 16-byte multiple.
+    pub pad: [u32; 2],
+    /// For a mirror, its rectangle in wall coordinates: from, to (arc length along the wall),
+    /// bottom, top; its frame is drawn along the edges.
+    pub frame: [f32; 4],
+}
+
+impl PartStyle {
+    /// A part that stands where it was meshed.
+    fn new(material: &Material, code: i32) -> PartStyle {
+        let (color, second, size) = match material {
+            Material::Checker { colors, size, .. } => (colors[0], colors[1], *size),
+            other => {
+                let c = representative(other);
+                (c, c, 0.0)
+            }
+        };
+        let mut style = PartStyle {
+            color: rgba(color, size as f32),
+            second: rgba(second, 1.0),
+            code,
+            ..PartStyle::default()
+        };
+        style.place(Space::new(orbifold::Geometry::Euclidean), None);
+        style
+    }
+
+    /// A mirror of this reflectance on wall `wall`, spanning `frame` (see [`PartStyle::frame`]).
+    fn mirror(reflectance: Color, wall: usize, frame: [f32; 4]) -> PartStyle {
+        let mut style = PartStyle::new(&Material::Color { color: reflectance }, 2 + wall as i32);
+        style.second[3] = MIRROR_ALPHA;
+        style.mirror = 1;
+        style.frame = frame;
+        style
+    }
+
+    /// Sets the placement (`None`: the identity).
+    pub fn place(&mut self, space: Space, placement: Option<&Placement>) {
+        let (m, h) = placement.map_or((glam::DMat3::IDENTITY, 0.0), |p| {
+            (p.isometry(space).matrix(), p.height)
+        });
+        self.transform =
+            [m.x_axis, m.y_axis, m.z_axis].map(|c| [c.x, c.y, c.z, 0.0].map(|v| v as f32));
+        self.transform[0][3] = h as f32;
+    }
+}
+
+fn rgba(c: Color, w: f32) -> [f32; 4] {
+    [c[0] as f32, c[1] as f32, c[2] as f32, w]
+}
+
+/// A triangle list with its opaque triangles first and its mirrors after.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshData {
+    /// The vertices.
+    pub vertices: Vec<Vertex>,
+    /// Three indices a triangle.
+    pub indices: Vec<u32>,
+    /// The range of `indices` drawn opaque.
+    pub opaque: Range<u32>,
+    /// The range of `indices` drawn as translucent mirrors.
+    pub mirrors: Range<u32>,
+}
+
+impl MeshData {
+    /// The number of triangles.
+    pub fn triangles(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    fn push(&mut self, surface: &Surface, part: u32, pattern: impl Fn(DVec3, f64) -> [f64; 3]) {
+        let offset = self.vertices.len() as u32;
+        self.vertices.extend(
+            surface
+                .points
+                .iter()
+                .zip(&surface.heights)
+                .map(|(&p, &h)| Vertex {
+                    position: [p.x as f32, p.y as f32, p.z as f32],
+                    height: h as f32,
+                    pattern: pattern(p, h).map(|v| v as f32),
+                    part,
+                }),
+        );
+        self.indices
+            .extend(surface.triangles.iter().flatten().map(|&i| i + offset));
+    }
+}
+
+/// The objects of a scene: their meshes in their own frames, their styles and placements.
+#[derive(Clone, Debug, Default)]
+pub struct ObjectMeshes {
+    /// All objects' triangles (part index i is object i).
+    pub mesh: MeshData,
+    /// One style per object, placed.
+    pub styles: Vec<PartStyle>,
+    /// Each object's radius: the largest intrinsic distance of a vertex from its centre, and
+    /// its highest point.
+    pub extents: Vec<(f64, f64)>,
+}
+
+/// Meshes every object of `scene` (mesh files relative to `base`).
+pub fn objects(
+    scene: &Scene,
+    layout: &Layout,
+    base: Option<&Path>,
+) -> Result<ObjectMeshes, String> {
+    let space = layout.space();
+    let mut out = ObjectMeshes::default();
+    for (i, object) in scene.objects.iter().enumerate() {
+        let (embedded, triangles, placement) = scene.embedded_object(layout, i, base)?;
+        let surface = Surface {
+            points: embedded.points,
+            heights: embedded.heights,
+            triangles,
+        };
+        let moved = placement.isometry(space).matrix();
+        let patterns = Patterns::new(space, layout, &object.material);
+        out.mesh.push(&surface, i as u32, |p, h| {
+            patterns.floor(moved * p, h + placement.height)
+        });
+        let mut style = PartStyle::new(&object.material, 1000 + i as i32);
+        style.place(space, Some(&placement));
+        out.styles.push(style);
+        let origin = DVec3::Z;
+        let radius = surface
+            .points
+            .iter()
+            .map(|&p| space.ambient_distance(origin, p))
+            .fold(0.0, f64::max);
+        let top = surface.heights.iter().copied().fold(0.0, f64::max);
+        out.extents.push((radius, top));
+    }
+    let end = out.mesh.indices.len() as u32;
+    out.mesh.opaque = 0..end;
+    out.mesh.mirrors = end..end;
+    Ok(out)
+}
+
+/// The room's floor, ceiling, walls and mirrors, with their styles; part indices start at
+/// `first_part`.
+pub fn room(
+    scene: &Scene,
+    layout: &Layout,
+    mesher: &RoomMesher,
+    first_part: u32,
+) -> (MeshData, Vec<PartStyle>) {
+    let space = layout.space();
+    let parts = scene.room_parts(layout, mesher);
+    let mut mesh = MeshData::default();
+    let mut styles = Vec::new();
+    // Opaque parts first, mirrors after.
+    let (mirrors, opaque): (Vec<&Part>, Vec<&Part>) =
+        parts.iter().partition(|p| p.reflectance.is_some());
+    for (pass, list) in [opaque, mirrors].iter().enumerate() {
+        let start = mesh.indices.len() as u32;
+        for part in list {
+            let index = first_part + styles.len() as u32;
+            match part.kind {
+                PartKind::Floor | PartKind::Ceiling => {
+                    let material = if part.kind == PartKind::Floor {
+                        &scene.room.floor
+                    } else {
+                        &scene.room.ceiling
+                    };
+                    let patterns = Patterns::new(space, layout, material);
+                    mesh.push(&part.surface, index, |p, h| patterns.floor(p, h));
+                    let code = if part.kind == PartKind::Floor { 0 } else { 1 };
+                    styles.push(PartStyle::new(material, code));
+                }
+                PartKind::Wall(w) | PartKind::Mirror { wall: w, .. } => {
+                    let start_point = mesher.wall_point(w, 0.0);
+                    let first = mesh.vertices.len();
+                    mesh.push(&part.surface, index, |p, h| {
+                        let along = start_point.map_or(0.0, |s| space.ambient_distance(s, p));
+                        [along, h, 0.0]
+                    });
+                    styles.push(match part.reflectance {
+                        Some(r) => PartStyle::mirror(r, w, extent(&mesh.vertices[first..])),
+                        None => PartStyle::new(scene.wall_material(w), 2 + w as i32),
+                    });
+                }
+                PartKind::Object(_) => {}
+            }
+        }
+        let end = mesh.indices.len() as u32;
+        if pass == 0 {
+            mesh.opaque = start..end;
+        } else {
+            mesh.mirrors = start..end;
+        }
+    }
+    (mesh, styles)
+}
+
+/// The rectangle the pattern coordinates of wall vertices span: from, to, bottom, top.
+fn extent(vertices: &[Vertex]) -> [f32; 4] {
+    vertices.iter().fold(
+        [
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ],
+        |e, v| {
+            [
+                e[0].min(v.pattern[0]),
+                e[1].max(v.pattern[0]),
+                e[2].min(v.pattern[1]),
+                e[3].max(v.pattern[1]),
+            ]
+        },
+    )
+}
+
+/// The coordinates a floor, ceiling or object pattern is laid out in (as the renderer does):
+/// model coordinates, or the logarithm map at the room's centre in the model's frame there.
+struct Patterns {
+    space: Space,
+    intrinsic: bool,
+    centre: DVec3,
+    frame: [DVec3; 2],
+}
+
+impl Patterns {
+    fn new(space: Space, layout: &Layout, material: &Material) -> Patterns {
+        let intrinsic = matches!(
+            material,
+            Material::Checker {
+                coordinates: Coordinates::Intrinsic,
+                ..
+            }
+        );
+        Patterns {
+            space,
+            intrinsic,
+            centre: space.to_ambient(layout.centre),
+            frame: [
+                space.model_tangent(layout.centre, Complex64::new(1.0, 0.0)),
+                space.model_tangent(layout.centre, Complex64::new(0.0, 1.0)),
+            ],
+        }
+    }
+
+    fn floor(&self, p: DVec3, h: f64) -> [f64; 3] {
+        if self.intrinsic {
+            let v = self.space.log(self.centre, p);
+            [
+                self.space.point_dot(v, self.frame[0]),
+                self.space.point_dot(v, self.frame[1]),
+                h,
+            ]
+        } else {
+            let z = self.space.to_model(p);
+            [z.re, z.im, h]
+        }
+    }
+}

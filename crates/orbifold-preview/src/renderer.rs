@@ -1,0 +1,856 @@
+//! The preview renderer: a scene in, a frame out, with cheap updates.
+//!
+//! The room and the objects live in two vertex buffers (objects in their own frames); every copy
+//! of the room under the group is one GPU instance that carries its group element (already
+//! composed with the view on the CPU, in f64) and its brightness. Moving the camera rewrites the
+//! instance buffer; moving an object rewrites one entry of the part table; a new layout rebuilds
+//! the room's buffer and the copies; a new depth only the copies.
+
+use std::path::Path;
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use orbifold::Layout;
+use orbifold::embed::Placement;
+use orbifold_scene::{Attenuation, Camera as CameraSettings, Scene};
+use wgpu::util::DeviceExt;
+
+use crate::PreviewError;
+use crate::copies::{Copy, copies};
+use crate::frame::Frame;
+use crate::gpu::Gpu;
+use crate::mesh::{self, MeshData, PartStyle, Vertex};
+use crate::projection::{Projection, View};
+
+/// The largest number of parts (objects, floor, ceiling, walls and mirrors) a scene may have.
+pub const MAX_PARTS: usize = 256;
+
+/// The colour format of the preview's image.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Sint;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// How close to the eye a surface may come before it is cut away (intrinsic units).
+const NEAR: f64 = 0.005;
+/// The background colour (linear RGB): what lies beyond the copies drawn.
+pub const BACKGROUND: [f64; 3] = [0.012, 0.014, 0.02];
+/// The share of light every surface gets whatever its angle to the eye.
+const AMBIENT: f32 = 0.3;
+
+/// What the preview shows, apart from the scene and the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// How many reflections deep the copies go (the whole group in S²×R).
+    pub depth: u32,
+    /// How copies fade (seed Fig. 8.6).
+    pub attenuation: Attenuation,
+    /// Curved or straight projection.
+    pub projection: Projection,
+    /// Whether copies that cannot be in view are skipped.
+    pub cull: bool,
+}
+
+impl Settings {
+    /// The settings a scene's `[preview]` section gives.
+    pub fn of_scene(scene: &Scene) -> Settings {
+        Settings {
+            depth: scene.preview.depth,
+            attenuation: scene.preview.attenuation,
+            projection: Projection::Curved,
+            cull: true,
+        }
+    }
+}
+
+/// What the last frame drew.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Copies of the room up to the depth (the room itself included).
+    pub copies: usize,
+    /// Instances drawn: copies in view, times the images of each point (two in S²×R).
+    pub instances: usize,
+    /// Triangles of one copy of the room with its objects.
+    pub triangles_per_copy: usize,
+    /// Triangles drawn: instances times triangles per copy.
+    pub triangles: usize,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct Globals {
+    right: [f32; 4],
+    up: [f32; 4],
+    forward: [f32; 4],
+    lens: [f32; 4],
+    eye: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct InstanceRaw {
+    columns: [[f32; 4]; 3],
+    tint: [f32; 4],
+}
+
+/// A mesh on the GPU.
+struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    opaque: std::ops::Range<u32>,
+    mirrors: std::ops::Range<u32>,
+}
+
+impl GpuMesh {
+    fn new(device: &wgpu::Device, data: &MeshData, label: &str) -> Option<GpuMesh> {
+        if data.indices.is_empty() {
+            return None;
+        }
+        Some(GpuMesh {
+            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(&data.vertices),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(&data.indices),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            opaque: data.opaque.clone(),
+            mirrors: data.mirrors.clone(),
+        })
+    }
+}
+
+/// Offscreen images of one size.
+struct Target {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    id: wgpu::Texture,
+    depth: wgpu::Texture,
+}
+
+impl Target {
+    fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
+        let texture = |format, label| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        Target {
+            width,
+            height,
+            color: texture(COLOR_FORMAT, "preview colour"),
+            id: texture(ID_FORMAT, "preview surface ids"),
+            depth: texture(DEPTH_FORMAT, "preview depth"),
+        }
+    }
+}
+
+/// The scene as the preview holds it on the CPU.
+struct SceneState {
+    layout: Layout,
+    height: f64,
+    reflectances: Vec<[f64; 3]>,
+    /// Part styles: objects first, then the room's parts.
+    styles: Vec<PartStyle>,
+    objects: usize,
+    /// The largest intrinsic distance from the room's centre to its boundary, objects included.
+    radius: f64,
+    /// The highest point of the room or an object.
+    top: f64,
+    triangles: usize,
+    copies: Vec<Copy>,
+}
+
+/// The real-time preview of a mirror room.
+///
+/// ```no_run
+/// use orbifold_preview::{Gpu, Preview};
+/// use orbifold_scene::Scene;
+/// let mut preview = Preview::new(Gpu::headless()?);
+/// let scene = Scene::default();
+/// preview.load(&scene, None)?;
+/// let frame = preview.render(640, 480)?;
+/// frame.save_png(std::path::Path::new("preview.png"))?;
+/// # Ok::<(), orbifold_preview::PreviewError>(())
+/// ```
+pub struct Preview {
+    gpu: Gpu,
+    opaque: wgpu::RenderPipeline,
+    mirror: wgpu::RenderPipeline,
+    globals: wgpu::Buffer,
+    parts: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    instances: Option<wgpu::Buffer>,
+    room: Option<GpuMesh>,
+    objects: Option<GpuMesh>,
+    target: Option<Target>,
+    scene: Option<SceneState>,
+    camera: CameraSettings,
+    settings: Settings,
+    stats: Stats,
+    /// Whether the instance buffer must be rebuilt before the next frame.
+    stale: bool,
+}
+
+impl Preview {
+    /// A preview that draws on `gpu`. Load a scene before rendering.
+    pub fn new(gpu: Gpu) -> Preview {
+        let device = &gpu.device;
+        let source = include_str!("preview.wgsl").replace("MAX_PARTS", &MAX_PARTS.to_string());
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("preview shader"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let uniform = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("preview bindings"),
+            entries: &[uniform(0), uniform(1)],
+        });
+        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("preview globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let parts = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("preview parts"),
+            size: (MAX_PARTS * std::mem::size_of::<PartStyle>()) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("preview bindings"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: parts.as_entire_binding(),
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("preview"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let opaque = pipeline(device, &pipeline_layout, &module, false);
+        let mirror = pipeline(device, &pipeline_layout, &module, true);
+        Preview {
+            gpu,
+            opaque,
+            mirror,
+            globals,
+            parts,
+            bind_group,
+            instances: None,
+            room: None,
+            objects: None,
+            target: None,
+            scene: None,
+            camera: CameraSettings::default(),
+            settings: Settings {
+                depth: 6,
+                attenuation: Attenuation::Reflectance,
+                projection: Projection::Curved,
+                cull: true,
+            },
+            stats: Stats::default(),
+            stale: true,
+        }
+    }
+
+    /// The GPU it draws on.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// Loads a whole scene: room, objects, copies, camera and the scene's preview settings.
+    /// `base` resolves mesh file names.
+    pub fn load(&mut self, scene: &Scene, base: Option<&Path>) -> Result<(), PreviewError> {
+        let layout = scene.layout().map_err(PreviewError::Scene)?;
+        let objects = mesh::objects(scene, &layout, base).map_err(PreviewError::Scene)?;
+        self.objects = GpuMesh::new(&self.gpu.device, &objects.mesh, "preview objects");
+        let radius = objects.extents.iter().map(|e| e.0).fold(0.0, f64::max);
+        let top = objects.extents.iter().map(|e| e.1).fold(0.0, f64::max);
+        self.scene = Some(SceneState {
+            layout: layout.clone(),
+            height: scene.room.height,
+            reflectances: Vec::new(),
+            objects: objects.styles.len(),
+            styles: objects.styles,
+            radius,
+            top,
+            triangles: objects.mesh.triangles(),
+            copies: Vec::new(),
+        });
+        self.settings = Settings {
+            projection: self.settings.projection,
+            cull: self.settings.cull,
+            ..Settings::of_scene(scene)
+        };
+        self.camera = scene.camera.clone();
+        self.set_room(scene)
+    }
+
+    /// Rebuilds the room (its layout, height, mirrors and materials changed) and its copies,
+    /// keeping the objects.
+    pub fn set_room(&mut self, scene: &Scene) -> Result<(), PreviewError> {
+        let Some(state) = self.scene.as_mut() else {
+            return self.load(scene, None);
+        };
+        let layout = scene.layout().map_err(PreviewError::Scene)?;
+        let mesher = scene.room_mesher(&layout).map_err(PreviewError::Scene)?;
+        let (room, styles) = mesh::room(scene, &layout, &mesher, state.objects as u32);
+        if state.objects + styles.len() > MAX_PARTS {
+            return Err(PreviewError::Scene(format!(
+                "the scene has {} parts (objects, floor, ceiling, walls and mirrors); the preview \
+                 draws at most {MAX_PARTS}",
+                state.objects + styles.len()
+            )));
+        }
+        let object_triangles = state.triangles
+            - self
+                .room
+                .as_ref()
+                .map_or(0, |r| (r.opaque.len() + r.mirrors.len()) / 3);
+        state.styles.truncate(state.objects);
+        state.styles.extend(styles);
+        state.reflectances = (0..layout.edges.len())
+            .map(|w| wall_reflectance(scene, w))
+            .collect();
+        let centre = layout.space().to_ambient(layout.centre);
+        let room_radius = room
+            .vertices
+            .iter()
+            .map(|v| {
+                let p = DVec3::new(
+                    v.position[0].into(),
+                    v.position[1].into(),
+                    v.position[2].into(),
+                );
+                layout.space().ambient_distance(centre, p)
+            })
+            .fold(0.0, f64::max);
+        state.radius = state.radius.max(room_radius);
+        state.top = state.top.max(scene.room.height);
+        state.height = scene.room.height;
+        state.triangles = object_triangles + room.triangles();
+        state.layout = layout;
+        self.room = GpuMesh::new(&self.gpu.device, &room, "preview room");
+        self.gpu
+            .queue
+            .write_buffer(&self.parts, 0, bytemuck::cast_slice(&state.styles));
+        self.rebuild_copies()
+    }
+
+    /// Sets the depth, the attenuation, the projection and culling.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), PreviewError> {
+        let old = std::mem::replace(&mut self.settings, settings);
+        if old.depth != settings.depth || old.attenuation != settings.attenuation {
+            self.rebuild_copies()?;
+        }
+        self.stale = true;
+        Ok(())
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> Settings {
+        self.settings
+    }
+
+    /// Moves the camera.
+    pub fn set_camera(&mut self, camera: &CameraSettings) {
+        self.camera = camera.clone();
+        self.stale = true;
+    }
+
+    /// Moves object `index` (of the scene's objects): 64 bytes to the GPU, nothing rebuilt.
+    pub fn set_object_placement(
+        &mut self,
+        index: usize,
+        placement: &Placement,
+    ) -> Result<(), PreviewError> {
+        let state = self.scene.as_mut().ok_or(PreviewError::NoScene)?;
+        if index >= state.objects {
+            return Err(PreviewError::Scene(format!(
+                "object {index} does not exist (the scene has {})",
+                state.objects
+            )));
+        }
+        let style = &mut state.styles[index];
+        style.place(state.layout.space(), Some(placement));
+        let offset = (index * std::mem::size_of::<PartStyle>()) as u64;
+        self.gpu
+            .queue
+            .write_buffer(&self.parts, offset, bytemuck::bytes_of(style));
+        Ok(())
+    }
+
+    /// The copies of the room up to the depth.
+    pub fn copies(&self) -> &[Copy] {
+        self.scene.as_ref().map_or(&[], |s| &s.copies)
+    }
+
+    /// What the last frame drew.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// The view of the current camera and projection.
+    pub fn view(&self) -> Option<View> {
+        let state = self.scene.as_ref()?;
+        Some(View::new(
+            state.layout.space(),
+            &self.camera,
+            self.settings.projection,
+        ))
+    }
+
+    fn rebuild_copies(&mut self) -> Result<(), PreviewError> {
+        let state = self.scene.as_mut().ok_or(PreviewError::NoScene)?;
+        state.copies = copies(
+            &state.layout,
+            self.settings.depth,
+            &state.reflectances,
+            self.settings.attenuation,
+        )
+        .map_err(|e| PreviewError::Scene(format!("copies of the room: {e}")))?;
+        self.stale = true;
+        Ok(())
+    }
+
+    /// Draws a frame into the preview's own offscreen images and returns the colour texture
+    /// (for an application to show).
+    pub fn draw(&mut self, width: u32, height: u32) -> Result<&wgpu::Texture, PreviewError> {
+        if width == 0 || height == 0 {
+            return Err(PreviewError::Size(width, height));
+        }
+        let limit = self.gpu.device.limits().max_texture_dimension_2d;
+        if width > limit || height > limit {
+            return Err(PreviewError::Size(width, height));
+        }
+        if self.scene.is_none() {
+            return Err(PreviewError::NoScene);
+        }
+        if self
+            .target
+            .as_ref()
+            .is_none_or(|t| (t.width, t.height) != (width, height))
+        {
+            self.target = Some(Target::new(&self.gpu.device, width, height));
+            self.stale = true;
+        }
+        let far = self.upload_view(width, height);
+        let _ = far;
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("preview frame"),
+            });
+        self.encode(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        Ok(&self.target.as_ref().expect("target made above").color)
+    }
+
+    /// Draws a frame and reads it back: colours and surface ids.
+    pub fn render(&mut self, width: u32, height: u32) -> Result<Frame, PreviewError> {
+        self.draw(width, height)?;
+        let target = self.target.as_ref().expect("drawn above");
+        let color = read_texture(&self.gpu, &target.color, width, height)?;
+        let ids = read_texture(&self.gpu, &target.id, width, height)?;
+        Ok(Frame {
+            width,
+            height,
+            rgba: color,
+            ids: bytemuck::cast_slice::<u8, i32>(&ids).to_vec(),
+        })
+    }
+
+    /// Writes the globals and the instance buffer for the current camera; returns the far
+    /// distance.
+    fn upload_view(&mut self, width: u32, height: u32) -> f64 {
+        let state = self.scene.as_ref().expect("checked by the caller");
+        let space = state.layout.space();
+        let view = View::new(space, &self.camera, self.settings.projection);
+        let aspect = f64::from(width) / f64::from(height);
+        let (instances, far) = instances(&view, state, self.settings.cull, aspect);
+        let [forward, right, up] = view.basis();
+        let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
+        let mode = f64::from(u8::from(self.settings.projection == Projection::Straight));
+        let eye = view.eye_model();
+        let globals = Globals {
+            right: v4(right, space.kappa()),
+            up: v4(up, view.eye_height()),
+            forward: v4(forward, mode),
+            lens: [
+                (1.0 / (view.tan_half_fov() * aspect)) as f32,
+                (1.0 / view.tan_half_fov()) as f32,
+                NEAR as f32,
+                far as f32,
+            ],
+            eye: [2.0 * eye.re as f32, 2.0 * eye.im as f32, AMBIENT, 0.0],
+        };
+        self.gpu
+            .queue
+            .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
+        let bytes: &[u8] = bytemuck::cast_slice(&instances);
+        let fits = self
+            .instances
+            .as_ref()
+            .is_some_and(|b| b.size() >= bytes.len() as u64);
+        if !fits && !bytes.is_empty() {
+            self.instances = Some(self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("preview copies"),
+                size: (bytes.len() as u64).next_power_of_two(),
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        if let Some(buffer) = &self.instances
+            && !bytes.is_empty()
+        {
+            self.gpu.queue.write_buffer(buffer, 0, bytes);
+        }
+        self.stats = Stats {
+            copies: state.copies.len(),
+            instances: instances.len(),
+            triangles_per_copy: state.triangles,
+            triangles: instances.len() * state.triangles,
+        };
+        self.stale = false;
+        far
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        let target = self.target.as_ref().expect("made by draw");
+        let color = target.color.create_view(&Default::default());
+        let id = target.id.create_view(&Default::default());
+        let depth = target.depth.create_view(&Default::default());
+        let background = BACKGROUND;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("preview"),
+            color_attachments: &[
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: background[0],
+                            g: background[1],
+                            b: background[2],
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &id,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: -1.0,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let Some(instances) = &self.instances else {
+            return;
+        };
+        let count = self.stats.instances as u32;
+        if count == 0 {
+            return;
+        }
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_vertex_buffer(1, instances.slice(..));
+        let meshes = [&self.room, &self.objects];
+        pass.set_pipeline(&self.opaque);
+        for mesh in meshes.iter().copied().flatten() {
+            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(mesh.opaque.clone(), 0, 0..count);
+        }
+        pass.set_pipeline(&self.mirror);
+        for mesh in meshes.iter().copied().flatten() {
+            if mesh.mirrors.is_empty() {
+                continue;
+            }
+            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(mesh.mirrors.clone(), 0, 0..count);
+        }
+    }
+}
+
+/// What a wall's mirrors reflect, weighted by their areas (1 for a wall without a mirror).
+fn wall_reflectance(scene: &Scene, wall: usize) -> [f64; 3] {
+    let height = scene.room.height;
+    let mut total = [0.0; 3];
+    let mut area = 0.0;
+    for m in scene.wall_mirrors(wall) {
+        let a = (m.to - m.from) * (m.top.unwrap_or(height).min(height) - m.bottom);
+        if a > 0.0 {
+            area += a;
+            (0..3).for_each(|k| total[k] += a * m.reflectance[k]);
+        }
+    }
+    if area > 0.0 {
+        total.map(|t| t / area)
+    } else {
+        [1.0; 3]
+    }
+}
+
+/// The instances of the copies in view, and the far distance that holds them all.
+fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<InstanceRaw>, f64) {
+    let space = view.space();
+    let centre = space.to_ambient(state.layout.centre);
+    let reach = state.radius.hypot(state.top);
+    let mut far: f64 = 1.0;
+    let mut out = Vec::with_capacity(state.copies.len() * view.images() as usize);
+    for image in 0..view.images() {
+        for copy in &state.copies {
+            let c = copy.matrix * centre;
+            let t = view.log(c, 0.5 * state.top, image);
+            // The log map at the eye never stretches distances where κ ≤ 0, so the copy lies
+            // within `reach` of its centre's image; on the sphere it may stretch, so no culling.
+            if cull
+                && space.kappa() <= 0.0
+                && view.projection() == Projection::Curved
+                && !in_view(view, t, reach, aspect)
+            {
+                continue;
+            }
+            far = far.max(t.length() + reach);
+            let m = view.instance_matrix(&copy.matrix);
+            let mut columns =
+                [m.x_axis, m.y_axis, m.z_axis].map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0]);
+            columns[0][3] = copy.depth as f32;
+            out.push(InstanceRaw {
+                columns,
+                tint: [
+                    copy.tint[0] as f32,
+                    copy.tint[1] as f32,
+                    copy.tint[2] as f32,
+                    image as f32,
+                ],
+            });
+        }
+    }
+    if space.kappa() > 0.0 && view.projection() == Projection::Curved {
+        far = far.max(std::f64::consts::TAU * f64::from(view.images()) + reach);
+    }
+    (out, far * 1.01)
+}
+
+/// Whether a ball of radius `reach` about the tangent vector `t` meets the view frustum.
+fn in_view(view: &View, t: DVec3, reach: f64, aspect: f64) -> bool {
+    let [forward, right, up] = view.basis();
+    let (x, y, z) = (t.dot(right), t.dot(up), t.dot(forward));
+    if z + reach < NEAR {
+        return false;
+    }
+    let tan_y = view.tan_half_fov();
+    let tan_x = tan_y * aspect;
+    // Distance to each side plane through the eye, whose normal is (±1, 0, −tan)/√(1 + tan²).
+    let side = |u: f64, tan: f64| (u.abs() - tan * z) / (1.0 + tan * tan).sqrt();
+    side(x, tan_x) <= reach && side(y, tan_y) <= reach
+}
+
+fn pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    mirror: bool,
+) -> wgpu::RenderPipeline {
+    const VERTEX: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
+    const INSTANCE: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+        4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4
+    ];
+    let buffers = [
+        Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &VERTEX,
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<InstanceRaw>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &INSTANCE,
+        }),
+    ];
+    let targets = [
+        Some(wgpu::ColorTargetState {
+            format: COLOR_FORMAT,
+            blend: mirror.then_some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        }),
+        Some(wgpu::ColorTargetState {
+            format: ID_FORMAT,
+            blend: None,
+            // Mirrors are seen through: the id is what lies behind them.
+            write_mask: if mirror {
+                wgpu::ColorWrites::empty()
+            } else {
+                wgpu::ColorWrites::ALL
+            },
+        }),
+    ];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if mirror {
+            "preview mirrors"
+        } else {
+            "preview opaque"
+        }),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(!mirror),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(if mirror { "fs_mirror" } else { "fs_opaque" }),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Copies a texture to the CPU, rows packed.
+fn read_texture(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>, PreviewError> {
+    let bytes_per_pixel = 4u32;
+    let row = width * bytes_per_pixel;
+    let padded =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("preview readback"),
+        size: u64::from(padded) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("preview readback"),
+        });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let slice = buffer.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| PreviewError::Gpu(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|e| PreviewError::Gpu(e.to_string()))?
+        .map_err(|e| PreviewError::Gpu(e.to_string()))?;
+    let data = slice
+        .get_mapped_range()
+        .map_err(|e| PreviewError::Gpu(e.to_string()))?;
+    let mut out = Vec::with_capacity((row * height) as usize);
+    for r in 0..height as usize {
+        let start = r * padded as usize;
+        out.extend_from_slice(&data[start..start + row as usize]);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn instance_and_style_layouts_match_the_shader() {
+        assert_eq!(std::mem::size_of::<InstanceRaw>(), 64);
+        assert_eq!(std::mem::size_of::<PartStyle>(), 112);
+        assert_eq!(std::mem::size_of::<Globals>(), 80);
+        assert_eq!(std::mem::size_of::<Vertex>(), 32);
+    }
+}
