@@ -12,6 +12,8 @@ pub enum CliError {
     Io(io::Error),
     /// The reader of our output went away (for example `| head`): stop quietly.
     BrokenPipe,
+    /// The machine cannot do the work (no GPU adapter, a failing GPU): exit code 1.
+    Runtime(String),
     /// The user stopped the work (Ctrl-C) before it was done (exit code 130, as a shell does).
     Interrupted(String),
 }
@@ -20,7 +22,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Input(_) => 2,
-            CliError::Io(_) => 1,
+            CliError::Io(_) | CliError::Runtime(_) => 1,
             CliError::BrokenPipe => 0,
             CliError::Interrupted(_) => 130,
         }
@@ -49,7 +51,7 @@ impl From<serde_json::Error> for CliError {
 impl fmt::Display for CliError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            CliError::Input(message) => write!(f, "error: {message}"),
+            CliError::Input(message) | CliError::Runtime(message) => write!(f, "error: {message}"),
             CliError::Io(error) => write!(f, "error: could not write the output: {error}"),
             CliError::BrokenPipe => Ok(()),
             CliError::Interrupted(message) => write!(f, "{message}"),

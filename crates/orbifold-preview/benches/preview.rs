@@ -1,1 +1,61 @@
-fn main() {}
+//! Preview frame time against depth (copies drawn) and triangle count, on whatever adapter
+//! `Gpu::headless` finds (a software one without a GPU). Each sample draws one frame and waits
+//! for the GPU. `cargo run --release -p orbifold-preview --example frame_table` prints the
+//! table of docs/benchmarks.md.
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use orbifold_preview::{Gpu, Preview};
+use orbifold_scene::Scene;
+
+fn scene(signature: &str, depth: u32) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    scene.preview.depth = depth;
+    let centre = scene.layout().expect("a good signature").centre;
+    scene.objects[0].at = [centre.re, centre.im];
+    scene.camera.at = [centre.re - 0.1, centre.im];
+    scene
+}
+
+fn frames(c: &mut Criterion) {
+    let gpu = match Gpu::headless() {
+        Ok(gpu) => gpu,
+        Err(e) => {
+            eprintln!("no adapter, nothing measured: {e}");
+            return;
+        }
+    };
+    eprintln!("adapter: {}", gpu.describe());
+    let mut preview = Preview::new(gpu);
+    let mut group = c.benchmark_group("preview frame 640x480");
+    group.sample_size(10);
+    for (signature, depth) in [
+        ("*22222", 2),
+        ("*22222", 4),
+        ("*22222", 6),
+        ("*235", 0),
+        ("*333", 8),
+    ] {
+        preview
+            .load(&scene(signature, depth), None)
+            .expect("the scene loads");
+        preview.draw(640, 480).expect("a frame");
+        let triangles = preview.stats().triangles;
+        let id = BenchmarkId::new(signature, format!("depth {depth}, {triangles} triangles"));
+        group.bench_function(id, |b| {
+            b.iter(|| {
+                // A moved camera rewrites the copies' matrices, as in the studio.
+                let mut camera = scene(signature, depth).camera;
+                camera.yaw += 1.0;
+                preview.set_camera(&camera);
+                preview.draw(640, 480).expect("a frame");
+                preview.finish().expect("the GPU finishes");
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, frames);
+criterion_main!(benches);

@@ -84,7 +84,16 @@ fn tint(words: &Words, tile: &Tile, reflectances: &[Color], attenuation: Attenua
 }
 
 /// Reduced words of tiles, found by walking back to the room across descents.
-struct Words {
+///
+/// ```
+/// use orbifold::cover::{Bound, Cover};
+/// use orbifold_preview::copies::Words;
+/// let cover = Cover::enumerate(&"*333".parse()?, Bound::Depth(3), true)?;
+/// let words = Words::new(&cover.layout);
+/// assert!(cover.tiles.iter().all(|t| words.word(t).len() == t.depth as usize));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Words {
     walls: Vec<DVec3>,
     reflections: Vec<DMat3>,
     kappa: f64,
@@ -93,7 +102,8 @@ struct Words {
 }
 
 impl Words {
-    fn new(layout: &Layout) -> Words {
+    /// The word finder for the group of a polygon's walls.
+    pub fn new(layout: &Layout) -> Words {
         let space = layout.space();
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
         Words {
@@ -105,8 +115,10 @@ impl Words {
     }
 
     /// The walls crossed from the room to `tile`, last first: the tile's own `wall`, then at
-    /// each step a wall of the current tile with the room's centre on its far side.
-    fn word(&self, tile: &Tile) -> Vec<u32> {
+    /// each step a wall of the current tile with the room's centre on its far side. The tile's
+    /// matrix is the product of the reflections in these walls of the room, the first
+    /// letter rightmost.
+    pub fn word(&self, tile: &Tile) -> Vec<u32> {
         let mut letters = Vec::with_capacity(tile.depth as usize);
         let mut m = tile.matrix;
         let mut next = tile.wall;

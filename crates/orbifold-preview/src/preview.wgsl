@@ -49,6 +49,7 @@ struct VertexOut {
     @location(2) tint: vec3<f32>,
     @location(3) @interpolate(flat) part: u32,
     @location(4) @interpolate(flat) depth: f32,
+    @location(5) @interpolate(flat) vertex: u32,
 };
 
 // The logarithm map at the eye of a point q (ambient, in the eye's frame), for one image.
@@ -77,7 +78,7 @@ fn eye_log(q: vec3<f32>, kappa: f32, image: f32) -> vec2<f32> {
 }
 
 @vertex
-fn vs_main(v: VertexIn, inst: InstanceIn) -> VertexOut {
+fn vs_main(v: VertexIn, inst: InstanceIn, @builtin(vertex_index) index: u32) -> VertexOut {
     let part = parts[v.part];
     let object = mat3x3<f32>(part.transform[0].xyz, part.transform[1].xyz, part.transform[2].xyz);
     let copy = mat3x3<f32>(inst.m0.xyz, inst.m1.xyz, inst.m2.xyz);
@@ -103,6 +104,7 @@ fn vs_main(v: VertexIn, inst: InstanceIn) -> VertexOut {
     out.tint = inst.tint.rgb;
     out.part = v.part;
     out.depth = inst.m0.w;
+    out.vertex = index;
     return out;
 }
 
@@ -165,5 +167,14 @@ fn fs_mirror(v: VertexOut) -> Target {
     var out: Target;
     out.color = vec4<f32>(part.color.rgb * 0.55 * v.tint, alpha);
     out.id = part.code;
+    return out;
+}
+
+// Vertices drawn as points, each writing its own index: where every vertex lands.
+@fragment
+fn fs_point(v: VertexOut) -> Target {
+    var out: Target;
+    out.color = vec4<f32>(1.0);
+    out.id = i32(v.vertex);
     return out;
 }

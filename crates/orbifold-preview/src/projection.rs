@@ -73,6 +73,7 @@ pub struct View {
     right: DVec3,
     up: DVec3,
     tan_half_fov: f64,
+    turns: u32,
 }
 
 impl View {
@@ -104,7 +105,17 @@ impl View {
             right,
             up,
             tan_half_fov: (0.5 * camera.fov.clamp(1.0, 179.0).to_radians()).tan(),
+            turns: 1,
         }
+    }
+
+    /// The same view drawing the images of `turns` whole turns round the sphere (S²×R only; at
+    /// least 1). A ray of elevation α meets a floor or ceiling Δh away after a horizontal
+    /// distance Δh/tan α, so `turns` turns show every surface seen more steeply than
+    /// atan(Δh/(2π·turns)); flatter rays go round further.
+    pub fn with_turns(mut self, turns: u32) -> View {
+        self.turns = turns.max(1);
+        self
     }
 
     /// The plane.
@@ -146,11 +157,11 @@ impl View {
         self.tan_half_fov
     }
 
-    /// How many images of each point the projection draws: two in S²×R (the short and the long
-    /// way round), one otherwise.
+    /// How many images of each point the projection draws: in S²×R two a turn round the sphere
+    /// (the short and the long way round; see [`View::with_turns`]), one otherwise.
     pub fn images(&self) -> u32 {
         match self.projection {
-            Projection::Curved if self.space.kappa() > 0.0 => 2,
+            Projection::Curved if self.space.kappa() > 0.0 => 2 * self.turns,
             _ => 1,
         }
     }

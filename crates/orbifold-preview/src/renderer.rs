@@ -47,6 +47,8 @@ pub struct Settings {
     pub projection: Projection,
     /// Whether copies that cannot be in view are skipped.
     pub cull: bool,
+    /// In S²×R, how many times round the sphere the images go (see [`View::with_turns`]).
+    pub turns: u32,
 }
 
 impl Settings {
@@ -57,9 +59,14 @@ impl Settings {
             attenuation: scene.preview.attenuation,
             projection: Projection::Curved,
             cull: true,
+            turns: DEFAULT_TURNS,
         }
     }
 }
+
+/// Turns round the sphere drawn by default: every floor and ceiling seen more than about 2°
+/// from level in a room of height 1.
+pub const DEFAULT_TURNS: u32 = 3;
 
 /// What the last frame drew.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -168,12 +175,28 @@ struct SceneState {
     /// Part styles: objects first, then the room's parts.
     styles: Vec<PartStyle>,
     objects: usize,
-    /// The largest intrinsic distance from the room's centre to its boundary, objects included.
-    radius: f64,
-    /// The highest point of the room or an object.
-    top: f64,
-    triangles: usize,
+    /// The largest intrinsic distance of an object's point from the object's centre.
+    object_radius: f64,
+    /// The highest point of an object above its base.
+    object_top: f64,
+    object_triangles: usize,
+    /// The largest intrinsic distance from the room's centre to its boundary.
+    room_radius: f64,
+    room_triangles: usize,
     copies: Vec<Copy>,
+}
+
+impl SceneState {
+    /// How far from the room's centre (in the product space, from mid-height) anything of one
+    /// copy can be.
+    fn reach(&self) -> f64 {
+        let top = self.height.max(self.object_top);
+        (self.room_radius + self.object_radius).hypot(0.5 * top)
+    }
+
+    fn triangles(&self) -> usize {
+        self.room_triangles + self.object_triangles
+    }
 }
 
 /// The real-time preview of a mirror room.
@@ -192,6 +215,7 @@ pub struct Preview {
     gpu: Gpu,
     opaque: wgpu::RenderPipeline,
     mirror: wgpu::RenderPipeline,
+    points: wgpu::RenderPipeline,
     globals: wgpu::Buffer,
     parts: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -261,12 +285,14 @@ impl Preview {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let opaque = pipeline(device, &pipeline_layout, &module, false);
-        let mirror = pipeline(device, &pipeline_layout, &module, true);
+        let opaque = pipeline(device, &pipeline_layout, &module, Pass::Opaque);
+        let mirror = pipeline(device, &pipeline_layout, &module, Pass::Mirror);
+        let points = pipeline(device, &pipeline_layout, &module, Pass::Points);
         Preview {
             gpu,
             opaque,
             mirror,
+            points,
             globals,
             parts,
             bind_group,
@@ -281,6 +307,7 @@ impl Preview {
                 attenuation: Attenuation::Reflectance,
                 projection: Projection::Curved,
                 cull: true,
+                turns: DEFAULT_TURNS,
             },
             stats: Stats::default(),
             stale: true,
@@ -298,23 +325,31 @@ impl Preview {
         let layout = scene.layout().map_err(PreviewError::Scene)?;
         let objects = mesh::objects(scene, &layout, base).map_err(PreviewError::Scene)?;
         self.objects = GpuMesh::new(&self.gpu.device, &objects.mesh, "preview objects");
-        let radius = objects.extents.iter().map(|e| e.0).fold(0.0, f64::max);
-        let top = objects.extents.iter().map(|e| e.1).fold(0.0, f64::max);
+        let object_radius = objects.extents.iter().map(|e| e.0).fold(0.0, f64::max);
+        // The highest point: an object's top above the height it stands at.
+        let object_top = objects
+            .extents
+            .iter()
+            .zip(&scene.objects)
+            .map(|(e, o)| e.1 + o.height)
+            .fold(0.0, f64::max);
         self.scene = Some(SceneState {
             layout: layout.clone(),
             height: scene.room.height,
             reflectances: Vec::new(),
             objects: objects.styles.len(),
             styles: objects.styles,
-            radius,
-            top,
-            triangles: objects.mesh.triangles(),
+            object_radius,
+            object_top,
+            object_triangles: objects.mesh.triangles(),
+            room_radius: 0.0,
+            room_triangles: 0,
             copies: Vec::new(),
         });
         self.settings = Settings {
-            projection: self.settings.projection,
-            cull: self.settings.cull,
-            ..Settings::of_scene(scene)
+            depth: scene.preview.depth,
+            attenuation: scene.preview.attenuation,
+            ..self.settings
         };
         self.camera = scene.camera.clone();
         self.set_room(scene)
@@ -336,18 +371,13 @@ impl Preview {
                 state.objects + styles.len()
             )));
         }
-        let object_triangles = state.triangles
-            - self
-                .room
-                .as_ref()
-                .map_or(0, |r| (r.opaque.len() + r.mirrors.len()) / 3);
         state.styles.truncate(state.objects);
         state.styles.extend(styles);
         state.reflectances = (0..layout.edges.len())
             .map(|w| wall_reflectance(scene, w))
             .collect();
         let centre = layout.space().to_ambient(layout.centre);
-        let room_radius = room
+        state.room_radius = room
             .vertices
             .iter()
             .map(|v| {
@@ -359,10 +389,8 @@ impl Preview {
                 layout.space().ambient_distance(centre, p)
             })
             .fold(0.0, f64::max);
-        state.radius = state.radius.max(room_radius);
-        state.top = state.top.max(scene.room.height);
         state.height = scene.room.height;
-        state.triangles = object_triangles + room.triangles();
+        state.room_triangles = room.triangles();
         state.layout = layout;
         self.room = GpuMesh::new(&self.gpu.device, &room, "preview room");
         self.gpu
@@ -427,11 +455,10 @@ impl Preview {
     /// The view of the current camera and projection.
     pub fn view(&self) -> Option<View> {
         let state = self.scene.as_ref()?;
-        Some(View::new(
-            state.layout.space(),
-            &self.camera,
-            self.settings.projection,
-        ))
+        Some(
+            View::new(state.layout.space(), &self.camera, self.settings.projection)
+                .with_turns(self.settings.turns),
+        )
     }
 
     fn rebuild_copies(&mut self) -> Result<(), PreviewError> {
@@ -468,17 +495,56 @@ impl Preview {
             self.target = Some(Target::new(&self.gpu.device, width, height));
             self.stale = true;
         }
-        let far = self.upload_view(width, height);
-        let _ = far;
+        if self.stale {
+            self.upload_view(width, height);
+        }
         let mut encoder = self
             .gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("preview frame"),
             });
-        self.encode(&mut encoder);
+        self.encode(&mut encoder, false);
         self.gpu.queue.submit([encoder.finish()]);
         Ok(&self.target.as_ref().expect("target made above").color)
+    }
+
+    /// Where the vertices of the room itself (floor, ceiling, walls and mirrors, not the
+    /// objects or the copies) land: the vertex index (into the room's vertex list, as
+    /// [`mesh::room`] makes it) and pixel of each vertex drawn, one vertex per pixel (the last
+    /// drawn where several share one). The shader's projection, read back.
+    pub fn vertex_pixels(
+        &mut self,
+        width: u32,
+        height: u32,
+    ) -> Result<Vec<(u32, u32, u32)>, PreviewError> {
+        self.draw(width, height)?;
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("preview vertices"),
+            });
+        self.encode(&mut encoder, true);
+        self.gpu.queue.submit([encoder.finish()]);
+        let target = self.target.as_ref().expect("drawn above");
+        let ids = read_texture(&self.gpu, &target.id, width, height)?;
+        let ids: &[i32] = bytemuck::cast_slice(&ids);
+        Ok(ids
+            .iter()
+            .enumerate()
+            .filter(|&(_, &id)| id >= 0)
+            .map(|(k, &id)| (id as u32, k as u32 % width, k as u32 / width))
+            .collect())
+    }
+
+    /// Waits until the GPU has finished every frame drawn so far (for timing).
+    pub fn finish(&self) -> Result<(), PreviewError> {
+        self.gpu
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| PreviewError::Gpu(e.to_string()))
     }
 
     /// Draws a frame and reads it back: colours and surface ids.
@@ -495,12 +561,12 @@ impl Preview {
         })
     }
 
-    /// Writes the globals and the instance buffer for the current camera; returns the far
-    /// distance.
-    fn upload_view(&mut self, width: u32, height: u32) -> f64 {
+    /// Writes the globals and the instance buffer for the current camera.
+    fn upload_view(&mut self, width: u32, height: u32) {
         let state = self.scene.as_ref().expect("checked by the caller");
         let space = state.layout.space();
-        let view = View::new(space, &self.camera, self.settings.projection);
+        let view = View::new(space, &self.camera, self.settings.projection)
+            .with_turns(self.settings.turns);
         let aspect = f64::from(width) / f64::from(height);
         let (instances, far) = instances(&view, state, self.settings.cull, aspect);
         let [forward, right, up] = view.basis();
@@ -543,14 +609,14 @@ impl Preview {
         self.stats = Stats {
             copies: state.copies.len(),
             instances: instances.len(),
-            triangles_per_copy: state.triangles,
-            triangles: instances.len() * state.triangles,
+            triangles_per_copy: state.triangles(),
+            triangles: instances.len() * state.triangles(),
         };
         self.stale = false;
-        far
     }
 
-    fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Records a frame, or with `points` the room's own vertices as points.
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, points: bool) {
         let target = self.target.as_ref().expect("made by draw");
         let color = target.color.create_view(&Default::default());
         let id = target.id.create_view(&Default::default());
@@ -609,6 +675,15 @@ impl Preview {
         }
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_vertex_buffer(1, instances.slice(..));
+        if points {
+            if let Some(room) = &self.room {
+                pass.set_pipeline(&self.points);
+                pass.set_vertex_buffer(0, room.vertices.slice(..));
+                let vertices = (room.vertices.size() / std::mem::size_of::<Vertex>() as u64) as u32;
+                pass.draw(0..vertices, 0..1);
+            }
+            return;
+        }
         let meshes = [&self.room, &self.objects];
         pass.set_pipeline(&self.opaque);
         for mesh in meshes.iter().copied().flatten() {
@@ -651,13 +726,13 @@ fn wall_reflectance(scene: &Scene, wall: usize) -> [f64; 3] {
 fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<InstanceRaw>, f64) {
     let space = view.space();
     let centre = space.to_ambient(state.layout.centre);
-    let reach = state.radius.hypot(state.top);
+    let reach = state.reach();
     let mut far: f64 = 1.0;
     let mut out = Vec::with_capacity(state.copies.len() * view.images() as usize);
     for image in 0..view.images() {
         for copy in &state.copies {
             let c = copy.matrix * centre;
-            let t = view.log(c, 0.5 * state.top, image);
+            let t = view.log(c, 0.5 * state.height.max(state.object_top), image);
             // The log map at the eye never stretches distances where κ ≤ 0, so the copy lies
             // within `reach` of its centre's image; on the sphere it may stretch, so no culling.
             if cull
@@ -684,7 +759,8 @@ fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<I
         }
     }
     if space.kappa() > 0.0 && view.projection() == Projection::Curved {
-        far = far.max(std::f64::consts::TAU * f64::from(view.images()) + reach);
+        // Image k reaches (k + 1)π round the sphere.
+        far = far.max(std::f64::consts::PI * f64::from(view.images()) + reach);
     }
     (out, far * 1.01)
 }
@@ -703,12 +779,24 @@ fn in_view(view: &View, t: DVec3, reach: f64, aspect: f64) -> bool {
     side(x, tan_x) <= reach && side(y, tan_y) <= reach
 }
 
+/// The three ways the preview draws.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Pass {
+    /// Surfaces, with depth, colour and id.
+    Opaque,
+    /// Mirrors over them: blended colour, no depth write, no id.
+    Mirror,
+    /// The room's vertices as points writing their index, over everything.
+    Points,
+}
+
 fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
-    mirror: bool,
+    pass: Pass,
 ) -> wgpu::RenderPipeline {
+    let mirror = pass == Pass::Mirror;
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
     const INSTANCE: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
@@ -730,7 +818,11 @@ fn pipeline(
         Some(wgpu::ColorTargetState {
             format: COLOR_FORMAT,
             blend: mirror.then_some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: wgpu::ColorWrites::ALL,
+            write_mask: if pass == Pass::Points {
+                wgpu::ColorWrites::empty()
+            } else {
+                wgpu::ColorWrites::ALL
+            },
         }),
         Some(wgpu::ColorTargetState {
             format: ID_FORMAT,
@@ -757,21 +849,33 @@ fn pipeline(
             buffers: &buffers,
         },
         primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
+            topology: if pass == Pass::Points {
+                wgpu::PrimitiveTopology::PointList
+            } else {
+                wgpu::PrimitiveTopology::TriangleList
+            },
             cull_mode: None,
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(!mirror),
-            depth_compare: Some(wgpu::CompareFunction::Less),
+            depth_write_enabled: Some(pass == Pass::Opaque),
+            depth_compare: Some(if pass == Pass::Points {
+                wgpu::CompareFunction::Always
+            } else {
+                wgpu::CompareFunction::Less
+            }),
             stencil: Default::default(),
             bias: Default::default(),
         }),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some(if mirror { "fs_mirror" } else { "fs_opaque" }),
+            entry_point: Some(match pass {
+                Pass::Opaque => "fs_opaque",
+                Pass::Mirror => "fs_mirror",
+                Pass::Points => "fs_point",
+            }),
             compilation_options: Default::default(),
             targets: &targets,
         }),

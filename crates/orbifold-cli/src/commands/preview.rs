@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::time::Instant;
 
-use orbifold_preview::{Gpu, Preview, Projection, Settings};
+use orbifold_preview::{Gpu, Preview, PreviewError, Projection, Settings};
 use serde::Serialize;
 
 use crate::args::PreviewArgs;
@@ -50,7 +50,8 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
         scene.camera.pitch = pitch;
     }
     let start = Instant::now();
-    let gpu = Gpu::headless().map_err(|e| CliError::Input(e.to_string()))?;
+    // No adapter is the machine's fault, not the input's: exit code 1.
+    let gpu = Gpu::headless().map_err(|e| CliError::Runtime(e.to_string()))?;
     let adapter = gpu.describe();
     let mut preview = Preview::new(gpu);
     preview
@@ -66,11 +67,13 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
                 Projection::Curved
             },
             cull: !args.no_cull,
+            turns: preview.settings().turns,
         })
         .map_err(|e| CliError::Input(e.to_string()))?;
-    let frame = preview
-        .render(width, height)
-        .map_err(|e| CliError::Input(e.to_string()))?;
+    let frame = preview.render(width, height).map_err(|e| match e {
+        PreviewError::Size(..) => CliError::Input(e.to_string()),
+        other => CliError::Runtime(other.to_string()),
+    })?;
     frame
         .save_png(&args.output)
         .map_err(|e| CliError::Io(std::io::Error::other(e.to_string())))?;
