@@ -108,10 +108,6 @@ fn vs_main(v: VertexIn, inst: InstanceIn, @builtin(vertex_index) index: u32) -> 
     return out;
 }
 
-struct Target {
-    @location(0) color: vec4<f32>,
-    @location(1) id: i32,
-};
 
 fn albedo(part: Part, pattern: vec3<f32>) -> vec3<f32> {
     let size = part.color.w;
@@ -136,18 +132,21 @@ fn shade(tangent: vec3<f32>) -> f32 {
 }
 
 @fragment
-fn fs_opaque(v: VertexOut) -> Target {
+fn fs_opaque(v: VertexOut) -> @location(0) vec4<f32> {
     let part = parts[v.part];
-    var out: Target;
-    out.color = vec4<f32>(albedo(part, v.pattern) * shade(v.tangent) * v.tint, 1.0);
-    out.id = part.code;
-    return out;
+    return vec4<f32>(albedo(part, v.pattern) * shade(v.tangent) * v.tint, 1.0);
+}
+
+// The surface code of what the pixel shows (the tracer's surface-id AOV).
+@fragment
+fn fs_id(v: VertexOut) -> @location(0) i32 {
+    return parts[v.part].code;
 }
 
 // Mirrors: a frame along their edges; the room's own mirrors also a faint glass. Copies behind
-// a mirror stay visible (the id written is theirs: this pass writes no id).
+// a mirror stay visible.
 @fragment
-fn fs_mirror(v: VertexOut) -> Target {
+fn fs_mirror(v: VertexOut) -> @location(0) vec4<f32> {
     let part = parts[v.part];
     let f = part.frame;
     let edge = min(
@@ -156,7 +155,9 @@ fn fs_mirror(v: VertexOut) -> Target {
     );
     // About 1.5 pixels wide, wider (up to 0.012 units) where the mirror is near.
     let width = max(1.5, 0.012 / max(fwidth(v.pattern.y), 1e-6));
-    let frame = 1.0 - smoothstep(width - 0.75, width + 0.75, edge);
+    // Frames of far copies fade, so that the copies' contents are not hidden behind a
+    // thicket of frames at the horizon.
+    let frame = (1.0 - smoothstep(width - 0.75, width + 0.75, edge)) * pow(0.8, v.depth);
     var alpha = frame;
     if v.depth < 0.5 {
         alpha = max(alpha, part.second.a);
@@ -164,17 +165,11 @@ fn fs_mirror(v: VertexOut) -> Target {
     if alpha <= 0.0 {
         discard;
     }
-    var out: Target;
-    out.color = vec4<f32>(part.color.rgb * 0.55 * v.tint, alpha);
-    out.id = part.code;
-    return out;
+    return vec4<f32>(part.color.rgb * 0.55 * v.tint, alpha);
 }
 
 // Vertices drawn as points, each writing its own index: where every vertex lands.
 @fragment
-fn fs_point(v: VertexOut) -> Target {
-    var out: Target;
-    out.color = vec4<f32>(1.0);
-    out.id = i32(v.vertex);
-    return out;
+fn fs_point(v: VertexOut) -> @location(0) i32 {
+    return i32(v.vertex);
 }

@@ -29,6 +29,8 @@ pub const MAX_PARTS: usize = 256;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Sint;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Samples a pixel of the colour picture (multisample antialiasing).
+const SAMPLES: u32 = 4;
 /// How close to the eye a surface may come before it is cut away (intrinsic units).
 const NEAR: f64 = 0.005;
 /// The background colour (linear RGB): what lies beyond the copies drawn.
@@ -128,18 +130,26 @@ impl GpuMesh {
     }
 }
 
-/// Offscreen images of one size.
+/// Offscreen images of one size: the multisampled colour and depth of the picture, its
+/// resolved colour, and the single-sampled surface ids with their own depth.
 struct Target {
     width: u32,
     height: u32,
+    color_samples: wgpu::Texture,
+    depth_samples: wgpu::Texture,
     color: wgpu::Texture,
     id: wgpu::Texture,
-    depth: wgpu::Texture,
+    id_depth: wgpu::Texture,
 }
 
 impl Target {
     fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
-        let texture = |format, label| {
+        let texture = |format, samples, label| {
+            let readable = if samples == 1 {
+                wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING
+            } else {
+                wgpu::TextureUsages::empty()
+            };
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d {
@@ -148,21 +158,21 @@ impl Target {
                     depth_or_array_layers: 1,
                 },
                 mip_level_count: 1,
-                sample_count: 1,
+                sample_count: samples,
                 dimension: wgpu::TextureDimension::D2,
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::COPY_SRC
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | readable,
                 view_formats: &[],
             })
         };
         Target {
             width,
             height,
-            color: texture(COLOR_FORMAT, "preview colour"),
-            id: texture(ID_FORMAT, "preview surface ids"),
-            depth: texture(DEPTH_FORMAT, "preview depth"),
+            color_samples: texture(COLOR_FORMAT, SAMPLES, "preview colour samples"),
+            depth_samples: texture(DEPTH_FORMAT, SAMPLES, "preview depth samples"),
+            color: texture(COLOR_FORMAT, 1, "preview colour"),
+            id: texture(ID_FORMAT, 1, "preview surface ids"),
+            id_depth: texture(DEPTH_FORMAT, 1, "preview id depth"),
         }
     }
 }
@@ -215,6 +225,7 @@ pub struct Preview {
     gpu: Gpu,
     opaque: wgpu::RenderPipeline,
     mirror: wgpu::RenderPipeline,
+    ids: wgpu::RenderPipeline,
     points: wgpu::RenderPipeline,
     globals: wgpu::Buffer,
     parts: wgpu::Buffer,
@@ -287,11 +298,13 @@ impl Preview {
         });
         let opaque = pipeline(device, &pipeline_layout, &module, Pass::Opaque);
         let mirror = pipeline(device, &pipeline_layout, &module, Pass::Mirror);
+        let ids = pipeline(device, &pipeline_layout, &module, Pass::Ids);
         let points = pipeline(device, &pipeline_layout, &module, Pass::Points);
         Preview {
             gpu,
             opaque,
             mirror,
+            ids,
             points,
             globals,
             parts,
@@ -504,7 +517,7 @@ impl Preview {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("preview frame"),
             });
-        self.encode(&mut encoder, false);
+        self.encode(&mut encoder, Pass::Opaque);
         self.gpu.queue.submit([encoder.finish()]);
         Ok(&self.target.as_ref().expect("target made above").color)
     }
@@ -525,7 +538,7 @@ impl Preview {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("preview vertices"),
             });
-        self.encode(&mut encoder, true);
+        self.encode(&mut encoder, Pass::Points);
         self.gpu.queue.submit([encoder.finish()]);
         let target = self.target.as_ref().expect("drawn above");
         let ids = read_texture(&self.gpu, &target.id, width, height)?;
@@ -550,6 +563,14 @@ impl Preview {
     /// Draws a frame and reads it back: colours and surface ids.
     pub fn render(&mut self, width: u32, height: u32) -> Result<Frame, PreviewError> {
         self.draw(width, height)?;
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("preview surface ids"),
+            });
+        self.encode(&mut encoder, Pass::Ids);
+        self.gpu.queue.submit([encoder.finish()]);
         let target = self.target.as_ref().expect("drawn above");
         let color = read_texture(&self.gpu, &target.color, width, height)?;
         let ids = read_texture(&self.gpu, &target.id, width, height)?;
@@ -615,50 +636,47 @@ impl Preview {
         self.stale = false;
     }
 
-    /// Records a frame, or with `points` the room's own vertices as points.
-    fn encode(&self, encoder: &mut wgpu::CommandEncoder, points: bool) {
+    /// Records a pass: the antialiased picture, the surface ids, or the room's own vertices
+    /// as points.
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, pass: Pass) {
         let target = self.target.as_ref().expect("made by draw");
-        let color = target.color.create_view(&Default::default());
-        let id = target.id.create_view(&Default::default());
-        let depth = target.depth.create_view(&Default::default());
-        let background = BACKGROUND;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let view = |t: &wgpu::Texture| t.create_view(&Default::default());
+        let (attachment, resolve, depth, clear) = match pass {
+            Pass::Opaque | Pass::Mirror => {
+                let [r, g, b] = BACKGROUND;
+                let clear = wgpu::Color { r, g, b, a: 1.0 };
+                let resolve = Some(view(&target.color));
+                (view(&target.color_samples), resolve, view(&target.depth_samples), clear)
+            }
+            Pass::Ids | Pass::Points => {
+                let clear = wgpu::Color {
+                    r: -1.0,
+                    ..wgpu::Color::TRANSPARENT
+                };
+                (view(&target.id), None, view(&target.id_depth), clear)
+            }
+        };
+        let mut render = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("preview"),
-            color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &color,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: background[0],
-                            g: background[1],
-                            b: background[2],
-                            a: 1.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &attachment,
+                depth_slice: None,
+                resolve_target: resolve.as_ref(),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    // The samples are needed only until they are resolved.
+                    store: if resolve.is_some() {
+                        wgpu::StoreOp::Discard
+                    } else {
+                        wgpu::StoreOp::Store
                     },
-                }),
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &id,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: -1.0,
-                            g: 0.0,
-                            b: 0.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
-            ],
+                },
+            })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
+                    store: wgpu::StoreOp::Discard,
                 }),
                 stencil_ops: None,
             }),
@@ -673,32 +691,36 @@ impl Preview {
         if count == 0 {
             return;
         }
-        pass.set_bind_group(0, &self.bind_group, &[]);
-        pass.set_vertex_buffer(1, instances.slice(..));
-        if points {
+        render.set_bind_group(0, &self.bind_group, &[]);
+        render.set_vertex_buffer(1, instances.slice(..));
+        if pass == Pass::Points {
             if let Some(room) = &self.room {
-                pass.set_pipeline(&self.points);
-                pass.set_vertex_buffer(0, room.vertices.slice(..));
+                render.set_pipeline(&self.points);
+                render.set_vertex_buffer(0, room.vertices.slice(..));
                 let vertices = (room.vertices.size() / std::mem::size_of::<Vertex>() as u64) as u32;
-                pass.draw(0..vertices, 0..1);
+                render.draw(0..vertices, 0..1);
             }
             return;
         }
         let meshes = [&self.room, &self.objects];
-        pass.set_pipeline(&self.opaque);
+        render.set_pipeline(if pass == Pass::Ids { &self.ids } else { &self.opaque });
         for mesh in meshes.iter().copied().flatten() {
-            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(mesh.opaque.clone(), 0, 0..count);
+            render.set_vertex_buffer(0, mesh.vertices.slice(..));
+            render.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            render.draw_indexed(mesh.opaque.clone(), 0, 0..count);
         }
-        pass.set_pipeline(&self.mirror);
+        if pass == Pass::Ids {
+            // Mirrors are seen through: the id is what lies behind them.
+            return;
+        }
+        render.set_pipeline(&self.mirror);
         for mesh in meshes.iter().copied().flatten() {
             if mesh.mirrors.is_empty() {
                 continue;
             }
-            pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-            pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(mesh.mirrors.clone(), 0, 0..count);
+            render.set_vertex_buffer(0, mesh.vertices.slice(..));
+            render.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            render.draw_indexed(mesh.mirrors.clone(), 0, 0..count);
         }
     }
 }
@@ -779,13 +801,15 @@ fn in_view(view: &View, t: DVec3, reach: f64, aspect: f64) -> bool {
     side(x, tan_x) <= reach && side(y, tan_y) <= reach
 }
 
-/// The three ways the preview draws.
-#[derive(Clone, Copy, PartialEq, Eq)]
+/// The ways the preview draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Pass {
-    /// Surfaces, with depth, colour and id.
+    /// Surfaces, antialiased, with depth.
     Opaque,
-    /// Mirrors over them: blended colour, no depth write, no id.
+    /// Mirrors over them: blended, no depth write (in the same pass as `Opaque`).
     Mirror,
+    /// The surface under each pixel, mirrors seen through.
+    Ids,
     /// The room's vertices as points writing their index, over everything.
     Points,
 }
@@ -796,7 +820,6 @@ fn pipeline(
     module: &wgpu::ShaderModule,
     pass: Pass,
 ) -> wgpu::RenderPipeline {
-    let mirror = pass == Pass::Mirror;
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
     const INSTANCE: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
@@ -814,33 +837,24 @@ fn pipeline(
             attributes: &INSTANCE,
         }),
     ];
-    let targets = [
-        Some(wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
-            blend: mirror.then_some(wgpu::BlendState::ALPHA_BLENDING),
-            write_mask: if pass == Pass::Points {
-                wgpu::ColorWrites::empty()
-            } else {
-                wgpu::ColorWrites::ALL
-            },
-        }),
-        Some(wgpu::ColorTargetState {
-            format: ID_FORMAT,
-            blend: None,
-            // Mirrors are seen through: the id is what lies behind them.
-            write_mask: if mirror {
-                wgpu::ColorWrites::empty()
-            } else {
-                wgpu::ColorWrites::ALL
-            },
-        }),
-    ];
+    let (format, blend, samples, entry) = match pass {
+        Pass::Opaque => (COLOR_FORMAT, None, SAMPLES, "fs_opaque"),
+        Pass::Mirror => (
+            COLOR_FORMAT,
+            Some(wgpu::BlendState::ALPHA_BLENDING),
+            SAMPLES,
+            "fs_mirror",
+        ),
+        Pass::Ids => (ID_FORMAT, None, 1, "fs_id"),
+        Pass::Points => (ID_FORMAT, None, 1, "fs_point"),
+    };
+    let targets = [Some(wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if mirror {
-            "preview mirrors"
-        } else {
-            "preview opaque"
-        }),
+        label: Some(entry),
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
@@ -859,7 +873,7 @@ fn pipeline(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(pass == Pass::Opaque),
+            depth_write_enabled: Some(matches!(pass, Pass::Opaque | Pass::Ids)),
             depth_compare: Some(if pass == Pass::Points {
                 wgpu::CompareFunction::Always
             } else {
@@ -868,14 +882,13 @@ fn pipeline(
             stencil: Default::default(),
             bias: Default::default(),
         }),
-        multisample: Default::default(),
+        multisample: wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        },
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some(match pass {
-                Pass::Opaque => "fs_opaque",
-                Pass::Mirror => "fs_mirror",
-                Pass::Points => "fs_point",
-            }),
+            entry_point: Some(entry),
             compilation_options: Default::default(),
             targets: &targets,
         }),
