@@ -29,8 +29,9 @@ pub const MAX_PARTS: usize = 256;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Sint;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Samples a pixel of the colour picture (multisample antialiasing).
-const SAMPLES: u32 = 4;
+/// Samples a pixel of the colour picture on a GPU (multisample antialiasing); software
+/// adapters take one, as four cost them two to four times the time.
+pub const GPU_SAMPLES: u32 = 4;
 /// How close to the eye a surface may come before it is cut away (intrinsic units).
 const NEAR: f64 = 0.005;
 /// The background colour (linear RGB): what lies beyond the copies drawn.
@@ -135,7 +136,8 @@ impl GpuMesh {
 struct Target {
     width: u32,
     height: u32,
-    color_samples: wgpu::Texture,
+    /// With multisampling: the samples, resolved into `color`.
+    color_samples: Option<wgpu::Texture>,
     depth_samples: wgpu::Texture,
     color: wgpu::Texture,
     id: wgpu::Texture,
@@ -143,7 +145,7 @@ struct Target {
 }
 
 impl Target {
-    fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
+    fn new(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> Target {
         let texture = |format, samples, label| {
             let readable = if samples == 1 {
                 wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING
@@ -168,8 +170,9 @@ impl Target {
         Target {
             width,
             height,
-            color_samples: texture(COLOR_FORMAT, SAMPLES, "preview colour samples"),
-            depth_samples: texture(DEPTH_FORMAT, SAMPLES, "preview depth samples"),
+            color_samples: (samples > 1)
+                .then(|| texture(COLOR_FORMAT, samples, "preview colour samples")),
+            depth_samples: texture(DEPTH_FORMAT, samples, "preview depth samples"),
             color: texture(COLOR_FORMAT, 1, "preview colour"),
             id: texture(ID_FORMAT, 1, "preview surface ids"),
             id_depth: texture(DEPTH_FORMAT, 1, "preview id depth"),
@@ -227,6 +230,8 @@ pub struct Preview {
     mirror: wgpu::RenderPipeline,
     ids: wgpu::RenderPipeline,
     points: wgpu::RenderPipeline,
+    /// Samples a pixel of the colour picture.
+    samples: u32,
     globals: wgpu::Buffer,
     parts: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -296,16 +301,21 @@ impl Preview {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let opaque = pipeline(device, &pipeline_layout, &module, Pass::Opaque);
-        let mirror = pipeline(device, &pipeline_layout, &module, Pass::Mirror);
-        let ids = pipeline(device, &pipeline_layout, &module, Pass::Ids);
-        let points = pipeline(device, &pipeline_layout, &module, Pass::Points);
+        let samples = if gpu.info.device_type == wgpu::DeviceType::Cpu {
+            1
+        } else {
+            GPU_SAMPLES
+        };
+        let make = |pass| pipeline(device, &pipeline_layout, &module, pass, samples);
+        let (opaque, mirror) = (make(Pass::Opaque), make(Pass::Mirror));
+        let (ids, points) = (make(Pass::Ids), make(Pass::Points));
         Preview {
             gpu,
             opaque,
             mirror,
             ids,
             points,
+            samples,
             globals,
             parts,
             bind_group,
@@ -325,6 +335,12 @@ impl Preview {
             stats: Stats::default(),
             stale: true,
         }
+    }
+
+    /// Samples a pixel of the colour picture: [`GPU_SAMPLES`] on a GPU, 1 on a software
+    /// adapter.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The GPU it draws on.
@@ -505,7 +521,7 @@ impl Preview {
             .as_ref()
             .is_none_or(|t| (t.width, t.height) != (width, height))
         {
-            self.target = Some(Target::new(&self.gpu.device, width, height));
+            self.target = Some(Target::new(&self.gpu.device, width, height, self.samples));
             self.stale = true;
         }
         if self.stale {
@@ -645,8 +661,11 @@ impl Preview {
             Pass::Opaque | Pass::Mirror => {
                 let [r, g, b] = BACKGROUND;
                 let clear = wgpu::Color { r, g, b, a: 1.0 };
-                let resolve = Some(view(&target.color));
-                (view(&target.color_samples), resolve, view(&target.depth_samples), clear)
+                let (attachment, resolve) = match &target.color_samples {
+                    Some(samples) => (view(samples), Some(view(&target.color))),
+                    None => (view(&target.color), None),
+                };
+                (attachment, resolve, view(&target.depth_samples), clear)
             }
             Pass::Ids | Pass::Points => {
                 let clear = wgpu::Color {
@@ -664,7 +683,7 @@ impl Preview {
                 resolve_target: resolve.as_ref(),
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(clear),
-                    // The samples are needed only until they are resolved.
+                    // Samples are needed only until they are resolved.
                     store: if resolve.is_some() {
                         wgpu::StoreOp::Discard
                     } else {
@@ -819,6 +838,7 @@ fn pipeline(
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     pass: Pass,
+    color_samples: u32,
 ) -> wgpu::RenderPipeline {
     const VERTEX: [wgpu::VertexAttribute; 4] =
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32, 2 => Float32x3, 3 => Uint32];
@@ -838,11 +858,11 @@ fn pipeline(
         }),
     ];
     let (format, blend, samples, entry) = match pass {
-        Pass::Opaque => (COLOR_FORMAT, None, SAMPLES, "fs_opaque"),
+        Pass::Opaque => (COLOR_FORMAT, None, color_samples, "fs_opaque"),
         Pass::Mirror => (
             COLOR_FORMAT,
             Some(wgpu::BlendState::ALPHA_BLENDING),
-            SAMPLES,
+            color_samples,
             "fs_mirror",
         ),
         Pass::Ids => (ID_FORMAT, None, 1, "fs_id"),
