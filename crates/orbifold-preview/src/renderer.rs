@@ -722,7 +722,11 @@ impl Preview {
             return;
         }
         let meshes = [&self.room, &self.objects];
-        render.set_pipeline(if pass == Pass::Ids { &self.ids } else { &self.opaque });
+        render.set_pipeline(if pass == Pass::Ids {
+            &self.ids
+        } else {
+            &self.opaque
+        });
         for mesh in meshes.iter().copied().flatten() {
             render.set_vertex_buffer(0, mesh.vertices.slice(..));
             render.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);

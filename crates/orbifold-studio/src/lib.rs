@@ -1,6 +1,19 @@
-//! The interactive designer for orbifold mirror rooms (eframe/egui): design panel, layout
-//! view, room design, 3D preview and rendering. See the seed's chapter 5.
+//! The interactive designer for orbifold mirror rooms (eframe/egui), seed chapter 5: the design
+//! panel (walls and corner orders, signature, χ, geometry, kind), the layout view (the polygon,
+//! its free parameters, presets and placement), room design (mirrors, materials, objects,
+//! lights), the real-time 3D preview with walking, the tiling of the cover, background
+//! rendering, and documents with undo/redo and crash recovery.
 //!
-//! Not yet written: the studio issue builds it, last.
+//! [`app::Studio`] is the whole application; `orbifold-studio` (the binary) runs it in a
+//! window, and the tests drive it headlessly with egui_kittest.
 
+pub mod app;
+pub mod design;
+pub mod document;
+pub mod layout_view;
+pub mod render_job;
+pub mod room_panel;
+pub mod view3d;
+
+pub use app::Studio;
 pub use orbifold;

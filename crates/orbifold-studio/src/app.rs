@@ -1,0 +1,552 @@
+//! The studio's window: menus and shortcuts, the design and layout panel on the left, the room
+//! on the right, and in the middle the 3D preview, the tiling of the cover and the renderer.
+
+use std::path::PathBuf;
+
+use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
+use orbifold_scene::Scene;
+
+use crate::document::{self, Document};
+use crate::render_job::{RenderJob, default_output};
+use crate::view3d::View3d;
+use crate::{design, layout_view, room_panel};
+
+/// What the middle of the window shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tab {
+    /// The real-time preview.
+    View,
+    /// The tiling of the universal cover.
+    Tiling,
+    /// The photo-realistic renderer.
+    Render,
+}
+
+/// A file dialog: a path typed in (the studio has no native dialogs).
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Dialog {
+    Open(String),
+    SaveAs(String),
+    SavePicture(String),
+}
+
+/// The studio application.
+pub struct Studio {
+    /// The open document.
+    pub document: Document,
+    /// The 3D view.
+    pub view: View3d,
+    /// The tab shown in the middle.
+    pub tab: Tab,
+    /// The last message for the status line.
+    pub status: String,
+    dialog: Option<Dialog>,
+    data: Option<PathBuf>,
+    recent: Vec<PathBuf>,
+    /// Unsaved work found from a session that crashed, offered to restore.
+    pub recovered: Option<Scene>,
+    recovery_written: u64,
+    render: Option<RenderJob>,
+    render_texture: Option<egui::TextureHandle>,
+    render_size: (u32, u32),
+    render_samples: u32,
+    tiling: Option<(u64, egui::TextureHandle)>,
+    /// Set by the binary's `--screenshot`: frames left before the screenshot is taken.
+    pub screenshot: Option<(PathBuf, u32)>,
+}
+
+impl Studio {
+    /// A studio on a document. `data` is the studio's own folder (recent files, recovery);
+    /// `None` keeps nothing (tests).
+    pub fn new(document: Document, data: Option<PathBuf>) -> Studio {
+        let recent = data
+            .as_deref()
+            .map(document::recent_files)
+            .unwrap_or_default();
+        let view = View3d::new(document.scene());
+        Studio {
+            document,
+            view,
+            tab: Tab::View,
+            status: String::new(),
+            dialog: None,
+            data,
+            recent,
+            recovered: None,
+            recovery_written: 0,
+            render: None,
+            render_texture: None,
+            render_size: (480, 360),
+            render_samples: 32,
+            tiling: None,
+            screenshot: None,
+        }
+    }
+
+    /// Opens a scene file in place of the document.
+    pub fn open(&mut self, path: &std::path::Path) {
+        let recovery = self.recovery_path();
+        match Document::open(path, recovery) {
+            Ok(document) => {
+                self.document.remove_recovery();
+                self.document = document;
+                self.view.reset(self.document.scene());
+                self.status = format!("opened {}", path.display());
+                self.remember(path);
+            }
+            Err(e) => self.status = format!("cannot open {}: {e}", path.display()),
+        }
+    }
+
+    /// Saves to `path` and makes it the document's file.
+    pub fn save_as(&mut self, path: &std::path::Path) {
+        match self.document.save_as(path) {
+            Ok(()) => {
+                self.status = format!("saved {}", path.display());
+                self.remember(path);
+            }
+            Err(e) => self.status = e,
+        }
+    }
+
+    fn remember(&mut self, path: &std::path::Path) {
+        if let Some(data) = &self.data {
+            let _ = document::remember(data, path);
+            self.recent = document::recent_files(data);
+        }
+    }
+
+    fn recovery_path(&self) -> Option<PathBuf> {
+        self.data.as_ref().map(|d| d.join("recovery.toml"))
+    }
+
+    /// The whole window.
+    pub fn ui(&mut self, ui: &mut Ui) {
+        self.shortcuts(ui);
+        egui::Panel::top("menu").show(ui, |ui| self.menu(ui));
+        egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));
+        egui::Panel::left("design")
+            .default_size(300.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.design(ui));
+            });
+        egui::Panel::right("room")
+            .default_size(330.0)
+            .resizable(true)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    if let Some(next) = room_panel::show(ui, self.document.scene()) {
+                        self.document.replace(next);
+                    }
+                });
+            });
+        egui::CentralPanel::default().show(ui, |ui| self.middle(ui));
+        self.dialog(ui);
+        self.recovery(ui);
+        self.take_screenshot(ui);
+    }
+
+    fn shortcuts(&mut self, ui: &Ui) {
+        let command = |key| KeyboardShortcut::new(Modifiers::COMMAND, key);
+        let shift = |key| KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, key);
+        let (redo, redo_y, undo, save, open, new) = ui.input_mut(|i| {
+            (
+                i.consume_shortcut(&shift(Key::Z)),
+                i.consume_shortcut(&command(Key::Y)),
+                i.consume_shortcut(&command(Key::Z)),
+                i.consume_shortcut(&command(Key::S)),
+                i.consume_shortcut(&command(Key::O)),
+                i.consume_shortcut(&command(Key::N)),
+            )
+        });
+        if redo || redo_y {
+            self.document.redo();
+        } else if undo {
+            self.document.undo();
+        }
+        if save {
+            self.save();
+        }
+        if open {
+            self.dialog = Some(Dialog::Open(String::new()));
+        }
+        if new {
+            self.new_document();
+        }
+    }
+
+    fn new_document(&mut self) {
+        self.document.remove_recovery();
+        self.document = Document::new(self.recovery_path());
+        self.view.reset(self.document.scene());
+        self.status = "new document: the seed's *22222 room".into();
+    }
+
+    fn save(&mut self) {
+        match self.document.path().map(std::path::Path::to_path_buf) {
+            Some(path) => self.save_as(&path),
+            None => self.dialog = Some(Dialog::SaveAs("room.toml".into())),
+        }
+    }
+
+    fn menu(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            ui.menu_button("File", |ui| {
+                if ui.button("New").clicked() {
+                    self.new_document();
+                }
+                if ui.button("Open…").clicked() {
+                    self.dialog = Some(Dialog::Open(String::new()));
+                }
+                if ui.button("Save").clicked() {
+                    self.save();
+                }
+                if ui.button("Save As…").clicked() {
+                    let current = self
+                        .document
+                        .path()
+                        .map_or_else(|| "room.toml".into(), |p| p.display().to_string());
+                    self.dialog = Some(Dialog::SaveAs(current));
+                }
+                ui.separator();
+                ui.label("Recent");
+                for path in self.recent.clone() {
+                    if ui.button(path.display().to_string()).clicked() {
+                        self.open(&path);
+                    }
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                if ui
+                    .add_enabled(self.document.can_undo(), egui::Button::new("Undo"))
+                    .clicked()
+                {
+                    self.document.undo();
+                }
+                if ui
+                    .add_enabled(self.document.can_redo(), egui::Button::new("Redo"))
+                    .clicked()
+                {
+                    self.document.redo();
+                }
+            });
+            if ui
+                .add_enabled(self.document.can_undo(), egui::Button::new("undo"))
+                .clicked()
+            {
+                self.document.undo();
+            }
+            if ui
+                .add_enabled(self.document.can_redo(), egui::Button::new("redo"))
+                .clicked()
+            {
+                self.document.redo();
+            }
+            ui.separator();
+            ui.label(self.document.title());
+        });
+    }
+
+    fn design(&mut self, ui: &mut Ui) {
+        let signature = self.document.scene().orbifold.signature.clone();
+        if let Some(next) = design::show(ui, &signature) {
+            self.document.edit(|scene| {
+                scene.orbifold.signature = next;
+                // New walls: the old free parameters and per-wall settings no longer fit.
+                scene.orbifold.parameters.clear();
+                scene.walls.clear();
+                if let Ok(layout) = scene.layout() {
+                    let c = layout.centre;
+                    scene.objects.iter_mut().for_each(|o| o.at = [c.re, c.im]);
+                    scene.lights.iter_mut().for_each(|l| l.at = [c.re, c.im]);
+                }
+            });
+            self.view.camera = camera_for(self.document.scene());
+        }
+        ui.separator();
+        if let Some(next) = layout_view::show(ui, self.document.scene()) {
+            self.document.replace(next);
+        }
+    }
+
+    fn middle(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.tab, Tab::View, "3D view");
+            ui.selectable_value(&mut self.tab, Tab::Tiling, "tiling");
+            ui.selectable_value(&mut self.tab, Tab::Render, "render");
+            if self.tab == Tab::View && ui.button("Use this view").clicked() {
+                let camera = self.view.camera.clone();
+                self.document.edit(|scene| scene.camera = camera);
+            }
+        });
+        match self.tab {
+            Tab::View => {
+                let base = self.document.base().map(std::path::Path::to_path_buf);
+                let revision = self.document.revision();
+                self.view
+                    .show(ui, self.document.scene(), base.as_deref(), revision);
+            }
+            Tab::Tiling => self.tiling(ui),
+            Tab::Render => self.render(ui),
+        }
+    }
+
+    fn tiling(&mut self, ui: &mut Ui) {
+        let revision = self.document.revision();
+        if self.tiling.as_ref().is_none_or(|(r, _)| *r != revision) {
+            match self.document.scene().layout() {
+                Ok(layout) => {
+                    let size = 512;
+                    let view = orbifold_render::tiling::View {
+                        coloring: orbifold_render::tiling::Coloring::Wall,
+                        ..orbifold_render::tiling::View::new(layout.space().geometry(), size)
+                    };
+                    match orbifold_render::tiling::render(&layout, &view, None) {
+                        Ok(picture) => {
+                            let image = egui::ColorImage::from_rgba_unmultiplied(
+                                [picture.size as usize; 2],
+                                &picture.rgba,
+                            );
+                            let texture = ui.ctx().load_texture(
+                                "tiling",
+                                image,
+                                egui::TextureOptions::LINEAR,
+                            );
+                            self.tiling = Some((revision, texture));
+                        }
+                        Err(e) => self.status = e,
+                    }
+                }
+                Err(e) => self.status = e,
+            }
+        }
+        if let Some((_, texture)) = &self.tiling {
+            let side = ui.available_width().min(ui.available_height());
+            ui.image((texture.id(), egui::vec2(side, side)));
+        }
+    }
+
+    fn render(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            design::labelled_value(ui, "width", &mut self.render_size.0, 16..=4096, 1.0);
+            design::labelled_value(ui, "height", &mut self.render_size.1, 16..=4096, 1.0);
+            design::labelled_value(ui, "samples", &mut self.render_samples, 1..=4096, 1.0);
+            let running = self.render.as_ref().is_some_and(|r| !r.is_done());
+            if !running && ui.button("Render").clicked() {
+                self.render = Some(RenderJob::start(
+                    self.document.scene(),
+                    self.document.base(),
+                    &self.view.camera,
+                    self.render_size,
+                    self.render_samples,
+                ));
+                self.render_texture = None;
+            }
+            if running && ui.button("Cancel").clicked() {
+                if let Some(job) = &self.render {
+                    job.cancel();
+                }
+            }
+            if self.render.is_some() && ui.button("Save picture…").clicked() {
+                let name = default_output(self.document.path()).display().to_string();
+                self.dialog = Some(Dialog::SavePicture(name));
+            }
+        });
+        let Some(job) = &self.render else {
+            ui.label("Renders the 3D view's camera along the true geodesics, with light through the mirrors.");
+            return;
+        };
+        if let Some(e) = job.error() {
+            ui.colored_label(Color32::LIGHT_RED, e);
+        }
+        let passes = job.passes();
+        ui.add(
+            egui::ProgressBar::new(passes as f32 / job.samples as f32)
+                .text(format!("{passes} / {} samples a pixel", job.samples)),
+        );
+        if !job.is_done() {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(200));
+        }
+        if let Some((w, h, rgba)) = job.picture() {
+            let image = egui::ColorImage::from_rgba_unmultiplied([w as usize, h as usize], &rgba);
+            match &mut self.render_texture {
+                Some(t) => t.set(image, egui::TextureOptions::LINEAR),
+                None => {
+                    self.render_texture = Some(ui.ctx().load_texture(
+                        "render",
+                        image,
+                        egui::TextureOptions::LINEAR,
+                    ));
+                }
+            }
+        }
+        if let Some(texture) = &self.render_texture {
+            let available = ui.available_size();
+            let (w, h) = (job.size.0 as f32, job.size.1 as f32);
+            let scale = (available.x / w).min(available.y / h).min(2.0);
+            ui.image((texture.id(), egui::vec2(w * scale, h * scale)));
+        }
+    }
+
+    fn status_line(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            if let Some(stats) = self.view.stats {
+                ui.label(format!(
+                    "{} copies, {} drawn, {:.1} M triangles",
+                    stats.copies,
+                    stats.instances,
+                    stats.triangles as f64 / 1e6
+                ));
+                ui.separator();
+            }
+            if let Some(e) = &self.view.error {
+                ui.colored_label(Color32::LIGHT_RED, e);
+                ui.separator();
+            }
+            ui.label(&self.status);
+        });
+        if self.document.revision() != self.recovery_written {
+            self.recovery_written = self.document.revision();
+            if let Err(e) = self.document.write_recovery() {
+                self.status = format!("cannot keep a recovery copy: {e}");
+            }
+        }
+    }
+
+    fn dialog(&mut self, ui: &mut Ui) {
+        let Some(dialog) = self.dialog.clone() else {
+            return;
+        };
+        let (title, action, mut text) = match &dialog {
+            Dialog::Open(t) => ("Open a scene", "Open", t.clone()),
+            Dialog::SaveAs(t) => ("Save the scene as", "Save", t.clone()),
+            Dialog::SavePicture(t) => ("Save the picture as", "Save picture", t.clone()),
+        };
+        let mut close = false;
+        let mut confirm = false;
+        egui::Window::new(title)
+            .collapsible(false)
+            .show(ui.ctx(), |ui| {
+                let label = ui.label("file");
+                let edit = ui
+                    .add(egui::TextEdit::singleline(&mut text).desired_width(360.0))
+                    .labelled_by(label.id);
+                if edit.lost_focus() && ui.input(|i| i.key_pressed(Key::Enter)) {
+                    confirm = true;
+                }
+                ui.horizontal(|ui| {
+                    confirm |= ui.button(action).clicked();
+                    close |= ui.button("Cancel").clicked();
+                });
+            });
+        self.dialog = Some(match dialog {
+            Dialog::Open(_) => Dialog::Open(text.clone()),
+            Dialog::SaveAs(_) => Dialog::SaveAs(text.clone()),
+            Dialog::SavePicture(_) => Dialog::SavePicture(text.clone()),
+        });
+        if confirm {
+            let path = PathBuf::from(text.trim());
+            match dialog {
+                Dialog::Open(_) => self.open(&path),
+                Dialog::SaveAs(_) => self.save_as(&path),
+                Dialog::SavePicture(_) => {
+                    if let Some(job) = &self.render {
+                        self.status = match job.save(&path) {
+                            Ok(()) => format!("wrote {}", path.display()),
+                            Err(e) => format!("cannot write {}: {e}", path.display()),
+                        };
+                    }
+                }
+            }
+            close = true;
+        }
+        if close {
+            self.dialog = None;
+        }
+    }
+
+    fn recovery(&mut self, ui: &mut Ui) {
+        let Some(scene) = self.recovered.clone() else {
+            return;
+        };
+        egui::Window::new("Unsaved work")
+            .collapsible(false)
+            .show(ui.ctx(), |ui| {
+                ui.label("The studio did not close cleanly last time. Restore the unsaved work?");
+                ui.horizontal(|ui| {
+                    if ui.button("Restore").clicked() {
+                        self.document.replace(scene);
+                        self.view.reset(self.document.scene());
+                        self.recovered = None;
+                        self.status = "restored the unsaved work".into();
+                    }
+                    if ui.button("Discard").clicked() {
+                        self.document.remove_recovery();
+                        self.recovered = None;
+                    }
+                });
+            });
+    }
+
+    /// Counts frames down, then asks for a screenshot; the callback writes it and closes the
+    /// window.
+    fn take_screenshot(&mut self, ui: &Ui) {
+        let Some((path, frames)) = self.screenshot.take() else {
+            return;
+        };
+        ui.ctx().request_repaint();
+        if frames > 0 {
+            self.screenshot = Some((path, frames - 1));
+            return;
+        }
+        let ctx = ui.ctx().clone();
+        ui.ctx().request_screenshot(move |image| {
+            let [w, h] = image.size;
+            let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+            let saved = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+                .ok_or_else(|| "the screenshot has the wrong size".to_string())
+                .and_then(|img| img.save(&path).map_err(|e| e.to_string()));
+            match saved {
+                Ok(()) => eprintln!("wrote {}", path.display()),
+                Err(e) => eprintln!("error: cannot write {}: {e}", path.display()),
+            }
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            ctx.request_repaint();
+        });
+    }
+}
+
+impl eframe::App for Studio {
+    fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+        Studio::ui(self, ui);
+    }
+
+    fn on_exit(&mut self) {
+        // A clean exit: unsaved work is the user's choice, not a crash to recover from.
+        self.document.remove_recovery();
+    }
+}
+
+/// A camera for a scene's room: part of the way from the centre towards the first corner,
+/// looking back at the centre a little from above.
+pub fn camera_for(scene: &Scene) -> orbifold_scene::Camera {
+    let mut camera = scene.camera.clone();
+    if let Ok(layout) = scene.layout() {
+        let c = layout.centre;
+        let corner = layout.vertices.first().map_or(c + 0.3, |v| {
+            if v.ideal {
+                c + (v.position - c) * 0.5
+            } else {
+                v.position
+            }
+        });
+        let eye = c + (corner - c) * 0.6;
+        camera.at = [eye.re, eye.im];
+        camera.yaw = layout.space().direction(eye, c).arg().to_degrees();
+        camera.pitch = -15.0;
+        camera.height = 0.5 * scene.room.height;
+    }
+    camera
+}

@@ -1,0 +1,188 @@
+//! The layout view (seed §5.1): the polygon in its model (Poincaré disk, stereographic or
+//! Euclidean plane), edges coloured, the free parameters, the shape presets, and the placement
+//! arrow: drag in the view to move the polygon, drag with Shift (or the right button) to turn it.
+
+use egui::{Color32, Pos2, Stroke, Ui, Vec2};
+use num_complex::Complex64;
+use orbifold::space::{ModelGeodesic, Space};
+use orbifold::{Geometry, Layout};
+use orbifold_scene::{Scene, ShapeName};
+
+use crate::design::labelled_value;
+
+/// Colours of the walls, in order (the same in the room panel).
+pub fn wall_colour(i: usize) -> Color32 {
+    const COLOURS: [Color32; 8] = [
+        Color32::from_rgb(230, 90, 80),
+        Color32::from_rgb(90, 180, 90),
+        Color32::from_rgb(80, 140, 230),
+        Color32::from_rgb(230, 180, 60),
+        Color32::from_rgb(180, 100, 220),
+        Color32::from_rgb(60, 200, 200),
+        Color32::from_rgb(240, 130, 190),
+        Color32::from_rgb(150, 150, 150),
+    ];
+    COLOURS[i % COLOURS.len()]
+}
+
+/// Points along wall `i` of the layout, in model coordinates.
+pub fn wall_points(layout: &Layout, i: usize) -> Vec<Complex64> {
+    let space = layout.space();
+    let edge = &layout.edges[i];
+    let ends = (
+        edge.from.map(|v| layout.vertices[v].position),
+        edge.to.map(|v| layout.vertices[v].position),
+    );
+    let inside = |z: Complex64| {
+        let p = if space.geometry() == Geometry::Hyperbolic && z.norm() >= 1.0 {
+            return false;
+        } else {
+            space.to_ambient(z)
+        };
+        layout.edges.iter().all(|e| e.wall.dot(p) > -1e-6)
+    };
+    match (edge.geodesic, ends) {
+        (ModelGeodesic::Line { point, direction }, (Some(a), Some(b))) => {
+            let _ = (point, direction);
+            (0..=32)
+                .map(|k| a + (b - a) * (f64::from(k) / 32.0))
+                .collect()
+        }
+        (ModelGeodesic::Circle { centre, radius }, (Some(a), Some(b))) => {
+            let (t0, mut t1) = ((a - centre).arg(), (b - centre).arg());
+            if t1 < t0 {
+                t1 += std::f64::consts::TAU;
+            }
+            // Of the two arcs between the ends, the one whose middle is on the polygon.
+            let arc = |from: f64, to: f64| -> Vec<Complex64> {
+                (0..=64)
+                    .map(|k| {
+                        centre
+                            + Complex64::from_polar(
+                                radius,
+                                from + (to - from) * f64::from(k) / 64.0,
+                            )
+                    })
+                    .collect()
+            };
+            let first = arc(t0, t1);
+            if inside(first[32]) {
+                first
+            } else {
+                arc(t1, t0 + std::f64::consts::TAU)
+            }
+        }
+        (ModelGeodesic::Circle { centre, radius }, _) => (0..=128)
+            .map(|k| {
+                centre + Complex64::from_polar(radius, std::f64::consts::TAU * f64::from(k) / 128.0)
+            })
+            .filter(|&z| inside(z))
+            .collect(),
+        (ModelGeodesic::Line { point, direction }, _) => (-32..=32)
+            .map(|k| point + direction * (f64::from(k) / 8.0))
+            .collect(),
+    }
+}
+
+/// The layout view and its controls. Returns the changed scene, if the user changed it.
+pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
+    let mut next = scene.clone();
+    ui.heading("Layout");
+    let layout = match scene.layout() {
+        Ok(layout) => layout,
+        Err(e) => {
+            ui.colored_label(Color32::LIGHT_RED, e);
+            return None;
+        }
+    };
+    ui.horizontal(|ui| {
+        ui.label("shape");
+        ui.selectable_value(&mut next.orbifold.shape, ShapeName::Default, "seed default");
+        ui.selectable_value(&mut next.orbifold.shape, ShapeName::Incircle, "incircle");
+    });
+    if next.orbifold.shape != scene.orbifold.shape {
+        next.orbifold.parameters.clear();
+    }
+    if !layout.parameters.is_empty() && next.orbifold.shape == ShapeName::Default {
+        let mut values = layout.parameters.clone();
+        egui::Grid::new("parameters").num_columns(2).show(ui, |ui| {
+            for (i, v) in values.iter_mut().enumerate() {
+                labelled_value(ui, &format!("parameter {}", i + 1), v, 0.01..=20.0, 0.01);
+                ui.end_row();
+            }
+        });
+        if values != layout.parameters {
+            next.orbifold.parameters = values;
+        }
+    } else if layout.parameters.is_empty() {
+        ui.label("the polygon is rigid: no free parameters");
+    }
+    ui.horizontal(|ui| {
+        labelled_value(ui, "x", &mut next.orbifold.at[0], -0.95..=0.95, 0.005);
+        labelled_value(ui, "y", &mut next.orbifold.at[1], -0.95..=0.95, 0.005);
+        labelled_value(ui, "turn", &mut next.orbifold.angle, -360.0..=360.0, 0.5);
+    });
+    draw(ui, &layout, &mut next);
+    (next != *scene).then_some(next)
+}
+
+/// Draws the polygon in its model; dragging moves or turns it.
+fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
+    let side = ui.available_width().clamp(160.0, 420.0);
+    let (rect, response) = ui.allocate_exact_size(Vec2::splat(side), egui::Sense::drag());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 4.0, Color32::from_gray(24));
+    let space = layout.space();
+    // The view: the unit disk fills it for the hyperbolic plane; the others are scaled to the
+    // polygon.
+    let extent = match space.geometry() {
+        Geometry::Hyperbolic => 1.05,
+        _ => {
+            layout
+                .vertices
+                .iter()
+                .map(|v| v.position.norm())
+                .fold(0.6, f64::max)
+                * 1.3
+        }
+    };
+    let scale = 0.5 * side as f64 / extent;
+    let to_screen = |z: Complex64| -> Pos2 {
+        rect.center() + Vec2::new((z.re * scale) as f32, (-z.im * scale) as f32)
+    };
+    if space.geometry() == Geometry::Hyperbolic {
+        painter.circle_stroke(rect.center(), scale as f32, Stroke::new(1.0, Color32::GRAY));
+    }
+    for i in 0..layout.edges.len() {
+        let points: Vec<Pos2> = wall_points(layout, i).into_iter().map(to_screen).collect();
+        painter.add(egui::Shape::line(points, Stroke::new(2.5, wall_colour(i))));
+    }
+    for v in &layout.vertices {
+        painter.circle_filled(to_screen(v.position), 3.0, Color32::WHITE);
+    }
+    // The placement arrow at the centre, along the polygon's heading.
+    let c = to_screen(layout.centre);
+    let heading = Vec2::angled(-(layout.heading as f32)) * 28.0;
+    painter.arrow(c, heading, Stroke::new(2.0, Color32::YELLOW));
+    if response.dragged() {
+        let delta = response.drag_delta();
+        let turning =
+            ui.input(|i| i.modifiers.shift) || response.dragged_by(egui::PointerButton::Secondary);
+        if turning {
+            scene.orbifold.angle += f64::from(delta.x) * 0.5;
+        } else {
+            let moved = Complex64::new(
+                scene.orbifold.at[0] + f64::from(delta.x) / scale,
+                scene.orbifold.at[1] - f64::from(delta.y) / scale,
+            );
+            let limit = if space.kappa() < 0.0 { 0.9 } else { 5.0 };
+            let moved = if moved.norm() > limit {
+                moved / moved.norm() * limit
+            } else {
+                moved
+            };
+            scene.orbifold.at = [moved.re, moved.im];
+        }
+    }
+    let _ = Space::new(Geometry::Euclidean);
+}

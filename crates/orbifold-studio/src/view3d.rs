@@ -1,0 +1,275 @@
+//! The 3D view: the real-time preview (`orbifold-preview`) of the room and its mirror copies,
+//! with the depth, attenuation and straight-rays controls, and walking inside the room.
+//!
+//! Keys: W/S or ↑/↓ walk forward and back along the geodesic, A/D or ←/→ turn, Q/E look up and
+//! down; dragging in the view turns and tilts. Walking moves the view's own camera; "Use this
+//! view" makes it the scene's camera (one undoable edit).
+
+use egui::{Color32, Ui};
+use num_complex::Complex64;
+use orbifold::space::Space;
+use orbifold_preview::{Gpu, Preview, Projection};
+use orbifold_scene::{Attenuation, Camera, Scene};
+
+/// How far one key press walks (intrinsic units per second).
+const WALK_SPEED: f64 = 0.5;
+/// How fast keys turn (degrees per second).
+const TURN_SPEED: f64 = 60.0;
+
+/// The 3D view's state.
+pub struct View3d {
+    preview: Option<Result<Preview, String>>,
+    texture: Option<egui::TextureHandle>,
+    /// The camera the view shows (walking moves it).
+    pub camera: Camera,
+    /// Reflections deep.
+    pub depth: u32,
+    /// How copies fade.
+    pub attenuation: Attenuation,
+    /// Straight rays (the model picture as flat space).
+    pub straight: bool,
+    /// The document revision and settings last drawn.
+    drawn: Option<(u64, Camera, u32, Attenuation, bool, [usize; 2])>,
+    /// What the preview drew: copies and triangles, for the status line.
+    pub stats: Option<orbifold_preview::Stats>,
+    /// The last error, for the status line.
+    pub error: Option<String>,
+    loaded: Option<u64>,
+}
+
+impl View3d {
+    /// A view of a scene's camera and preview settings.
+    pub fn new(scene: &Scene) -> View3d {
+        View3d {
+            preview: None,
+            texture: None,
+            camera: scene.camera.clone(),
+            depth: scene.preview.depth,
+            attenuation: scene.preview.attenuation,
+            straight: false,
+            drawn: None,
+            stats: None,
+            error: None,
+            loaded: None,
+        }
+    }
+
+    /// Starts again from a scene (after opening a document).
+    pub fn reset(&mut self, scene: &Scene) {
+        let preview = self.preview.take();
+        *self = View3d::new(scene);
+        self.preview = preview;
+    }
+
+    /// The adapter the preview draws on, once it has drawn.
+    pub fn adapter(&self) -> Option<String> {
+        match &self.preview {
+            Some(Ok(p)) => Some(p.gpu().describe()),
+            _ => None,
+        }
+    }
+
+    /// The controls and the picture. `revision` tells when the scene changed.
+    pub fn show(
+        &mut self,
+        ui: &mut Ui,
+        scene: &Scene,
+        base: Option<&std::path::Path>,
+        revision: u64,
+    ) {
+        ui.horizontal(|ui| {
+            crate::design::labelled_value(ui, "depth", &mut self.depth, 0..=14, 0.05);
+            let label = ui.label("attenuation");
+            egui::ComboBox::from_id_salt("attenuation")
+                .selected_text(attenuation_name(self.attenuation))
+                .show_ui(ui, |ui| {
+                    for a in [
+                        Attenuation::Reflectance,
+                        Attenuation::Orbifold,
+                        Attenuation::Translations,
+                        Attenuation::Universal,
+                    ] {
+                        ui.selectable_value(&mut self.attenuation, a, attenuation_name(a));
+                    }
+                })
+                .response
+                .labelled_by(label.id);
+            ui.checkbox(&mut self.straight, "straight rays");
+        });
+        let size = ui.available_size();
+        let (w, h) = (size.x.max(64.0) as usize, (size.y - 4.0).max(48.0) as usize);
+        let (rect, response) = ui.allocate_exact_size(
+            egui::vec2(w as f32, h as f32),
+            egui::Sense::click_and_drag(),
+        );
+        self.walk(ui, &response, scene);
+        self.redraw(ui, scene, base, revision, [w, h]);
+        match &self.texture {
+            Some(texture) => {
+                ui.painter().image(
+                    texture.id(),
+                    rect,
+                    egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                    Color32::WHITE,
+                );
+            }
+            None => {
+                ui.painter().rect_filled(rect, 0.0, Color32::from_gray(20));
+                let text = self.error.clone().unwrap_or_else(|| "no preview".into());
+                ui.painter().text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    text,
+                    egui::FontId::proportional(14.0),
+                    Color32::LIGHT_RED,
+                );
+            }
+        }
+    }
+
+    /// Keys and drags move the view's camera.
+    fn walk(&mut self, ui: &Ui, response: &egui::Response, scene: &Scene) {
+        if response.dragged() {
+            let d = response.drag_delta();
+            self.camera.yaw -= f64::from(d.x) * 0.3;
+            self.camera.pitch = (self.camera.pitch - f64::from(d.y) * 0.3).clamp(-89.0, 89.0);
+        }
+        if !(response.hovered() || response.has_focus()) {
+            return;
+        }
+        let dt = f64::from(ui.input(|i| i.stable_dt)).min(0.1);
+        let (forward, turn, tilt) = ui.input(|i| {
+            let key = |a: egui::Key, b: egui::Key| i.key_down(a) || i.key_down(b);
+            let axis = |plus: bool, minus: bool| f64::from(i8::from(plus) - i8::from(minus));
+            (
+                axis(
+                    key(egui::Key::W, egui::Key::ArrowUp),
+                    key(egui::Key::S, egui::Key::ArrowDown),
+                ),
+                axis(
+                    key(egui::Key::A, egui::Key::ArrowLeft),
+                    key(egui::Key::D, egui::Key::ArrowRight),
+                ),
+                axis(i.key_down(egui::Key::Q), i.key_down(egui::Key::E)),
+            )
+        });
+        self.camera.yaw += turn * TURN_SPEED * dt;
+        self.camera.pitch = (self.camera.pitch + tilt * TURN_SPEED * dt).clamp(-89.0, 89.0);
+        if forward != 0.0 {
+            if let Ok(layout) = scene.layout() {
+                walk(layout.space(), &mut self.camera, forward * WALK_SPEED * dt);
+            }
+        }
+        if forward != 0.0 || turn != 0.0 || tilt != 0.0 {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// Draws a new frame when the scene, the camera, the settings or the size changed.
+    fn redraw(
+        &mut self,
+        ui: &Ui,
+        scene: &Scene,
+        base: Option<&std::path::Path>,
+        revision: u64,
+        size: [usize; 2],
+    ) {
+        let key = (
+            revision,
+            self.camera.clone(),
+            self.depth,
+            self.attenuation,
+            self.straight,
+            size,
+        );
+        if self.drawn.as_ref() == Some(&key) {
+            return;
+        }
+        self.drawn = Some(key);
+        let preview = self
+            .preview
+            .get_or_insert_with(|| Gpu::headless().map(Preview::new).map_err(|e| e.to_string()));
+        let preview = match preview {
+            Ok(p) => p,
+            Err(e) => {
+                self.error = Some(e.clone());
+                return;
+            }
+        };
+        let result = (|| -> Result<orbifold_preview::Frame, orbifold_preview::PreviewError> {
+            if self.loaded != Some(revision) {
+                preview.load(scene, base)?;
+                self.loaded = Some(revision);
+            }
+            preview.set_camera(&self.camera);
+            let mut settings = preview.settings();
+            settings.depth = self.depth;
+            settings.attenuation = self.attenuation;
+            settings.projection = if self.straight {
+                Projection::Straight
+            } else {
+                Projection::Curved
+            };
+            preview.set_settings(settings)?;
+            preview.render(size[0] as u32, size[1] as u32)
+        })();
+        match result {
+            Ok(frame) => {
+                let image = egui::ColorImage::from_rgba_unmultiplied(
+                    [frame.width as usize, frame.height as usize],
+                    &frame.rgba,
+                );
+                match &mut self.texture {
+                    Some(t) => t.set(image, egui::TextureOptions::LINEAR),
+                    None => {
+                        self.texture = Some(ui.ctx().load_texture(
+                            "preview",
+                            image,
+                            egui::TextureOptions::LINEAR,
+                        ));
+                    }
+                }
+                self.stats = Some(preview.stats());
+                self.error = None;
+            }
+            Err(e) => {
+                self.error = Some(e.to_string());
+                self.loaded = None;
+            }
+        }
+    }
+}
+
+/// Moves a camera `distance` along the geodesic it looks along (horizontally), keeping its
+/// bearing relative to the geodesic (parallel transport).
+///
+/// ```
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_scene::Camera;
+/// let mut camera = Camera { at: [0.0, 0.0], yaw: 0.0, ..Camera::default() };
+/// orbifold_studio::view3d::walk(Space::new(Geometry::Hyperbolic), &mut camera, 0.5);
+/// // Half a unit along the real axis of the Poincaré disk: tanh(0.25).
+/// assert!((camera.at[0] - 0.25f64.tanh()).abs() < 1e-9 && camera.at[1].abs() < 1e-12);
+/// assert!(camera.yaw.abs() < 1e-6);
+/// ```
+pub fn walk(space: Space, camera: &mut Camera, distance: f64) {
+    let z = Complex64::new(camera.at[0], camera.at[1]);
+    let p = space.to_ambient(z);
+    let v = space.model_tangent(z, Complex64::from_polar(1.0, camera.yaw.to_radians()));
+    let q = space.exp(p, v * distance);
+    let ahead = space.exp(p, v * (distance + 1e-6));
+    let z2 = space.to_model(q);
+    let direction = space.direction(z2, space.to_model(ahead));
+    camera.at = [z2.re, z2.im];
+    camera.yaw = direction.arg().to_degrees();
+}
+
+/// The attenuation's name in the menu.
+pub fn attenuation_name(a: Attenuation) -> &'static str {
+    match a {
+        Attenuation::Reflectance => "reflectance",
+        Attenuation::Orbifold => "orbifold",
+        Attenuation::Translations => "translations",
+        Attenuation::Universal => "universal cover",
+    }
+}
