@@ -329,9 +329,15 @@ impl Studio {
 
     fn render(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
-            design::labelled_value(ui, "width", &mut self.render_size.0, 16..=4096, 1.0);
-            design::labelled_value(ui, "height", &mut self.render_size.1, 16..=4096, 1.0);
-            design::labelled_value(ui, "samples", &mut self.render_samples, 1..=4096, 1.0);
+            design::labelled_value(ui, "render width", &mut self.render_size.0, 16..=4096, 1.0);
+            design::labelled_value(ui, "render height", &mut self.render_size.1, 16..=4096, 1.0);
+            design::labelled_value(
+                ui,
+                "render samples",
+                &mut self.render_samples,
+                1..=4096,
+                1.0,
+            );
             let running = self.render.as_ref().is_some_and(|r| !r.is_done());
             if !running && ui.button("Render").clicked() {
                 self.render = Some(RenderJob::start(
@@ -343,10 +349,11 @@ impl Studio {
                 ));
                 self.render_texture = None;
             }
-            if running && ui.button("Cancel").clicked() {
-                if let Some(job) = &self.render {
-                    job.cancel();
-                }
+            if running
+                && ui.button("Cancel").clicked()
+                && let Some(job) = &self.render
+            {
+                job.cancel();
             }
             if self.render.is_some() && ui.button("Save picture…").clicked() {
                 let name = default_output(self.document.path()).display().to_string();

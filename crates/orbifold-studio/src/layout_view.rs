@@ -4,7 +4,7 @@
 
 use egui::{Color32, Pos2, Stroke, Ui, Vec2};
 use num_complex::Complex64;
-use orbifold::space::{ModelGeodesic, Space};
+use orbifold::space::ModelGeodesic;
 use orbifold::{Geometry, Layout};
 use orbifold_scene::{Scene, ShapeName};
 
@@ -184,5 +184,4 @@ fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
             scene.orbifold.at = [moved.re, moved.im];
         }
     }
-    let _ = Space::new(Geometry::Euclidean);
 }

@@ -155,10 +155,10 @@ impl View3d {
         });
         self.camera.yaw += turn * TURN_SPEED * dt;
         self.camera.pitch = (self.camera.pitch + tilt * TURN_SPEED * dt).clamp(-89.0, 89.0);
-        if forward != 0.0 {
-            if let Ok(layout) = scene.layout() {
-                walk(layout.space(), &mut self.camera, forward * WALK_SPEED * dt);
-            }
+        if forward != 0.0
+            && let Ok(layout) = scene.layout()
+        {
+            walk(layout.space(), &mut self.camera, forward * WALK_SPEED * dt);
         }
         if forward != 0.0 || turn != 0.0 || tilt != 0.0 {
             ui.ctx().request_repaint();

@@ -1,0 +1,233 @@
+//! The studio driven through its real widgets, headlessly (egui_kittest): the design panel's
+//! walls and corner orders change χ and the geometry; a free parameter changes the polygon;
+//! mirrors, objects and lights added through the panels survive save and reopen; undo and redo;
+//! snapshots of the main screens.
+
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use orbifold_scene::Scene;
+use orbifold_studio::document::Document;
+use orbifold_studio::{Studio, app::Tab};
+
+fn harness(scene: Scene) -> Harness<'static, Studio> {
+    let studio = Studio::new(Document::with_scene(scene, None, None), None);
+    Harness::builder()
+        .with_size(egui::vec2(1440.0, 900.0))
+        .build_ui_state(|ui, studio: &mut Studio| studio.ui(ui), studio)
+}
+
+fn set(harness: &mut Harness<'static, Studio>, name: &str, value: f64) {
+    harness
+        .get_by_role_and_label(Role::SpinButton, name)
+        .set_value_accesskit(value);
+    harness.run();
+}
+
+fn shows(harness: &Harness<'static, Studio>, text: &str) -> bool {
+    harness.query_by_label(text).is_some()
+}
+
+#[test]
+fn stepping_through_the_seeds_sequence_updates_chi_and_the_geometry() {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = "*".into();
+    let mut harness = harness(scene);
+    assert!(shows(&harness, "χ = 1"), "the hemisphere *: χ = 1");
+    // * → *22 → *33 → *233 → *333 → *2333 (seed §5.1).
+    let steps: [(&str, f64, &str, &str, &str); 5] = [
+        ("walls", 2.0, "*22", "χ = 1/2", "spherical"),
+        ("corner 1", 3.0, "*33", "χ = 1/3", "spherical"),
+        ("walls", 3.0, "*233", "χ = 1/12", "spherical"),
+        ("corner 1", 3.0, "*333", "χ = 0", "euclidean"),
+        ("walls", 4.0, "*2333", "χ = -1/4", "hyperbolic"),
+    ];
+    for (widget, value, signature, chi, geometry) in steps {
+        set(&mut harness, widget, value);
+        let scene = harness.state().document.scene();
+        assert_eq!(scene.orbifold.signature, signature);
+        assert!(shows(&harness, chi), "{signature}: {chi} not shown");
+        assert!(
+            shows(&harness, geometry),
+            "{signature}: {geometry} not shown"
+        );
+    }
+    // Two walls: the corners move together.
+    set(&mut harness, "walls", 2.0);
+    set(&mut harness, "corner 2", 5.0);
+    assert_eq!(harness.state().document.scene().orbifold.signature, "*55");
+    assert!(shows(&harness, "orbifold"));
+    // A non-integer order: a room that is not an orbifold.
+    set(&mut harness, "walls", 3.0);
+    set(&mut harness, "corner 1", 2.5);
+    assert_eq!(
+        harness.state().document.scene().orbifold.signature,
+        "*(2.5)55"
+    );
+    assert!(
+        harness
+            .query_all_by_label_contains("non-orbifold")
+            .next()
+            .is_some()
+    );
+}
+
+#[test]
+fn a_free_parameter_changes_the_polygon() {
+    let mut harness = harness(Scene::default());
+    let before = harness.state().document.scene().layout().unwrap();
+    set(&mut harness, "parameter 1", 2.2);
+    let scene = harness.state().document.scene().clone();
+    assert_eq!(scene.orbifold.parameters[0], 2.2);
+    let after = scene.layout().unwrap();
+    let moved = before
+        .vertices
+        .iter()
+        .zip(&after.vertices)
+        .map(|(a, b)| (a.position - b.position).norm())
+        .fold(0.0, f64::max);
+    assert!(moved > 0.01, "the polygon did not change ({moved})");
+    // The incircle preset has no free parameters.
+    harness.get_by_label("incircle").click();
+    harness.run();
+    assert!(harness.query_by_label("parameter 1").is_none());
+}
+
+#[test]
+fn mirrors_objects_and_lights_added_in_the_panels_survive_save_and_reopen() {
+    let mut harness = harness(Scene::default());
+    harness.get_by_label("add mirror to wall 1").click();
+    harness.run();
+    harness.get_by_label("add object").click();
+    harness.run();
+    harness.get_by_label("add light").click();
+    harness.run();
+    set(&mut harness, "object 1 yaw", 30.0);
+    set(&mut harness, "light 1 power", 55.0);
+    set(&mut harness, "mirror 1.1 bottom", 0.25);
+    let scene = harness.state().document.scene().clone();
+    assert_eq!(scene.wall_mirrors(1).len(), 2);
+    assert_eq!(scene.wall_mirrors(1)[1].bottom, 0.25);
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(scene.objects[1].yaw, 30.0);
+    assert_eq!(scene.lights.len(), 2);
+    assert_eq!(scene.lights[1].power, 55.0);
+
+    // Save through the Save As dialog (Ctrl+S on a new document opens it).
+    let dir = std::env::temp_dir().join(format!("orbifold-studio-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("room.toml");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run();
+    harness
+        .get_by_role_and_label(Role::TextInput, "file")
+        .set_text_value_accesskit(path.to_str().unwrap());
+    harness.run();
+    harness.get_by_label("Save").click();
+    harness.run();
+    assert_eq!(harness.state().document.path(), Some(path.as_path()));
+    assert!(!harness.state().document.is_dirty());
+
+    // Reopen in a fresh studio.
+    let reopened = Document::open(&path, None).unwrap();
+    assert_eq!(reopened.scene(), &scene);
+    let mut other = self::harness(Scene::default());
+    other.state_mut().open(&path);
+    other.run();
+    assert_eq!(other.state().document.scene(), &scene);
+}
+
+#[test]
+fn undo_and_redo_walk_the_history() {
+    let mut harness = harness(Scene::default());
+    let original = harness.state().document.scene().clone();
+    set(&mut harness, "height", 1.5);
+    harness.get_by_label("add light").click();
+    harness.run();
+    assert_eq!(harness.state().document.scene().lights.len(), 2);
+    harness.get_by_label("undo").click();
+    harness.run();
+    assert_eq!(harness.state().document.scene().lights.len(), 1);
+    assert_eq!(harness.state().document.scene().room.height, 1.5);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run();
+    assert_eq!(harness.state().document.scene(), &original);
+    harness.get_by_label("redo").click();
+    harness.run();
+    assert_eq!(harness.state().document.scene().room.height, 1.5);
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run();
+    assert_eq!(harness.state().document.scene().lights.len(), 2);
+}
+
+#[test]
+fn the_tiling_and_render_tabs_show_their_pictures() {
+    let mut harness = harness(Scene::default());
+    harness.get_by_label("tiling").click();
+    harness.run();
+    assert_eq!(harness.state().tab, Tab::Tiling);
+    harness.get_by_label("render").click();
+    harness.run();
+    set(&mut harness, "render width", 32.0);
+    set(&mut harness, "render height", 24.0);
+    set(&mut harness, "render samples", 2.0);
+    harness.get_by_label("Render").click();
+    harness.run();
+    for _ in 0..600 {
+        if harness.query_by_label_contains("2 / 2 samples").is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        harness.run_steps(1);
+    }
+    assert!(harness.query_by_label_contains("2 / 2 samples").is_some());
+}
+
+fn snapshot_harness(scene: Scene) -> Option<Harness<'static, Studio>> {
+    if std::env::var_os("ORBIFOLD_REQUIRE_GPU").is_none()
+        && orbifold_preview::Gpu::headless().is_err()
+    {
+        eprintln!("skipped: no wgpu adapter for snapshots");
+        return None;
+    }
+    let studio = Studio::new(Document::with_scene(scene, None, None), None);
+    Some(
+        Harness::builder()
+            .with_size(egui::vec2(1280.0, 800.0))
+            .wgpu()
+            .build_ui_state(|ui, studio: &mut Studio| studio.ui(ui), studio),
+    )
+}
+
+/// The 3D view is drawn by the preview on its own device; a few pixels at triangle edges may
+/// round differently on another CPU's software rasteriser.
+fn tolerant() -> egui_kittest::SnapshotOptions {
+    egui_kittest::SnapshotOptions::new().max_failed_pixels(40)
+}
+
+/// The main screen as a picture, rendered by wgpu on whatever adapter there is (Mesa's
+/// lavapipe in CI). `UPDATE_SNAPSHOTS=true cargo test -p orbifold-studio` writes it again.
+#[test]
+fn the_default_room_matches_its_snapshot() {
+    let Some(mut harness) = snapshot_harness(Scene::default()) else {
+        return;
+    };
+    harness.run();
+    harness.snapshot_options("studio-default-room", &tolerant());
+}
+
+/// The tiling tab of a hyperbolic orbifold.
+#[test]
+fn the_tiling_tab_matches_its_snapshot() {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = "*2333".into();
+    let Some(mut harness) = snapshot_harness(scene) else {
+        return;
+    };
+    harness.get_by_label("tiling").click();
+    harness.run();
+    harness.snapshot_options("studio-tiling-2333", &tolerant());
+}
