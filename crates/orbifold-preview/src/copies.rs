@@ -50,6 +50,9 @@ pub fn copies(
     reflectances: &[Color],
     attenuation: Attenuation,
 ) -> Result<Vec<Copy>, CoverError> {
+    if layout.signature.kind() != orbifold::Kind::Orbifold {
+        return Ok(images(layout, depth, reflectances, attenuation));
+    }
     let bound = match layout.space().geometry() {
         Geometry::Spherical => Bound::All,
         _ => Bound::Depth(depth as usize),
@@ -66,6 +69,71 @@ pub fn copies(
             tint: tint(&words, tile, reflectances, attenuation),
         })
         .collect())
+}
+
+/// The most images drawn of a room that is not an orbifold.
+pub const MAX_IMAGES: usize = 20_000;
+
+/// The mirror images of a room that is not an orbifold (a corner order that is not an integer):
+/// its walls generate no discrete group, so there is no cover to enumerate. Instead every word
+/// in the walls without a letter repeated next to itself, up to `depth` letters (at most
+/// [`MAX_IMAGES`] images), is an image, as the mirrors show it along that sequence of
+/// reflections. The images overlap: that is what the preview lets a person see of a
+/// non-orbifold (seed Fig. 8.9).
+fn images(
+    layout: &Layout,
+    depth: u32,
+    reflectances: &[Color],
+    attenuation: Attenuation,
+) -> Vec<Copy> {
+    let space = layout.space();
+    let reflections: Vec<DMat3> = layout
+        .edges
+        .iter()
+        .map(|e| reflection(space, e.wall))
+        .collect();
+    let room = Copy {
+        matrix: DMat3::IDENTITY,
+        depth: 0,
+        reflected: false,
+        tint: [1.0; 3],
+    };
+    let mut out = vec![room];
+    // (copy, last wall crossed)
+    let mut layer = vec![(room, usize::MAX)];
+    for d in 1..=depth {
+        let mut next = Vec::new();
+        for (copy, last) in &layer {
+            for (w, r) in reflections.iter().enumerate() {
+                if w == *last || out.len() + next.len() >= MAX_IMAGES {
+                    continue;
+                }
+                let factor = match attenuation {
+                    Attenuation::Reflectance => reflectances.get(w).copied().unwrap_or([1.0; 3]),
+                    _ => [1.0; 3],
+                };
+                let reflected = d % 2 == 1;
+                let tint = match attenuation {
+                    Attenuation::Orbifold => [FAINT; 3],
+                    Attenuation::Translations if reflected => [FAINT; 3],
+                    Attenuation::Translations | Attenuation::Universal => [1.0; 3],
+                    Attenuation::Reflectance => [0, 1, 2].map(|k| copy.tint[k] * factor[k]),
+                };
+                next.push((
+                    Copy {
+                        matrix: copy.matrix * *r,
+                        depth: d,
+                        reflected,
+                        tint,
+                    },
+                    w,
+                ));
+            }
+        }
+        out.extend(next.iter().map(|(c, _)| *c));
+        layer = next;
+    }
+    out
 }
 
 /// The brightness of a tile under an attenuation setting.

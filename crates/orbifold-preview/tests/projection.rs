@@ -204,3 +204,17 @@ fn attenuation_settings_tint_copies_as_documented() {
         assert_eq!(c.tint[0] == 1.0, !c.reflected);
     }
 }
+
+#[test]
+fn a_non_orbifold_room_gets_its_images_along_every_word() {
+    // *(2.5)55: a corner of angle 2π/5, not π/k: no discrete group, so every word without a
+    // letter repeated next to itself is an image: 1 + 3 + 6 + 12 + 24 up to four letters.
+    let layout = Layout::new(&"*(2.5)55".parse().unwrap(), &LayoutOptions::default()).unwrap();
+    let images = copies(&layout, 4, &[[0.5; 3]; 3], Attenuation::Reflectance).unwrap();
+    assert_eq!(images.len(), 1 + 3 + 6 + 12 + 24);
+    for image in &images {
+        let expected = 0.5f64.powi(image.depth as i32);
+        assert!((image.tint[0] - expected).abs() < 1e-12);
+        assert_eq!(image.reflected, image.matrix.determinant() < 0.0);
+    }
+}

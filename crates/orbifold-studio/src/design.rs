@@ -132,6 +132,12 @@ pub fn summary(text: &str) -> Result<Summary, String> {
     })
 }
 
+/// A signature as the panel shows it: `∞` written `(inf)` (which the notation also reads), as
+/// egui's built-in fonts have no ∞.
+pub fn shown(signature: &str) -> String {
+    signature.replace('∞', "(inf)")
+}
+
 /// A label with a drag value tied to it (so that screen readers and UI tests find it by name).
 pub fn labelled_value<N: egui::emath::Numeric>(
     ui: &mut Ui,
@@ -150,21 +156,26 @@ pub fn show(ui: &mut Ui, current: &str) -> Option<String> {
     let mut changed = None;
     let corners_now = corners(current);
     ui.heading("Orbifold");
-    let mut text = current.to_string();
+    let id = ui.make_persistent_id("signature text");
+    let mut text: String = ui
+        .data(|d| d.get_temp::<(String, String)>(id))
+        .filter(|(of, _)| of == current)
+        .map_or_else(|| shown(current), |(_, typed)| typed);
     ui.horizontal(|ui| {
         let label = ui.label("signature");
         let edit = ui
             .add(egui::TextEdit::singleline(&mut text).desired_width(140.0))
             .labelled_by(label.id);
-        if edit.lost_focus() && text != current {
+        if edit.lost_focus() && text != shown(current) {
             changed = Some(text.clone());
         }
     });
+    ui.data_mut(|d| d.insert_temp(id, (current.to_string(), text)));
     match summary(current) {
         Ok(s) => {
             egui::Grid::new("summary").num_columns(2).show(ui, |ui| {
                 ui.label("canonical");
-                ui.label(&s.canonical);
+                ui.label(shown(&s.canonical));
                 ui.end_row();
                 ui.label("χ");
                 ui.label(format!("χ = {}", s.chi));
@@ -214,7 +225,7 @@ pub fn show(ui: &mut Ui, current: &str) -> Option<String> {
                         .speed(0.05),
                 )
                 .labelled_by(label.id);
-            let toggle = ui.checkbox(&mut ideal, format!("∞ {}", i + 1));
+            let toggle = ui.checkbox(&mut ideal, format!("ideal {}", i + 1));
             ui.end_row();
             if drag.changed() || toggle.changed() {
                 next[i] = if ideal {
@@ -264,7 +275,7 @@ fn draw_nodes(ui: &mut Ui, corners: &[Corner]) {
         let p = node(i);
         painter.circle_filled(p, 11.0, Color32::from_rgb(60, 60, 70));
         let text = match corner {
-            Corner::Ideal => "∞".to_string(),
+            Corner::Ideal => "inf".to_string(),
             Corner::Order(k) if k.fract() == 0.0 => format!("{k}"),
             Corner::Order(k) => format!("{}", round(*k)),
         };
