@@ -39,6 +39,19 @@ pub struct Document {
     recovery: Option<PathBuf>,
     /// Bumped by every change, so that views know when to redraw.
     revision: u64,
+    /// While set (a drag under way), edits after the first join it as one undo step.
+    gesture: Gesture,
+}
+
+/// Whether edits are joining one gesture.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum Gesture {
+    #[default]
+    None,
+    /// A gesture has begun; its first edit has not come yet.
+    Open,
+    /// Its first edit is on the undo stack; later ones replace the scene only.
+    Recorded,
 }
 
 impl Document {
@@ -58,7 +71,29 @@ impl Document {
             redo: Vec::new(),
             recovery,
             revision: 0,
+            gesture: Gesture::None,
         }
+    }
+
+    /// Starts or ends a gesture (a drag): the edits made during one are undone as one.
+    ///
+    /// ```
+    /// use orbifold_studio::document::Document;
+    /// let mut doc = Document::new(None);
+    /// doc.set_gesture(true);
+    /// for k in 1..=10 {
+    ///     doc.edit(|scene| scene.room.height = 1.0 + 0.1 * f64::from(k));
+    /// }
+    /// doc.set_gesture(false);
+    /// doc.undo();
+    /// assert_eq!(doc.scene().room.height, 1.0);
+    /// ```
+    pub fn set_gesture(&mut self, active: bool) {
+        self.gesture = match (active, self.gesture) {
+            (false, _) => Gesture::None,
+            (true, Gesture::None) => Gesture::Open,
+            (true, g) => g,
+        };
     }
 
     /// Opens a scene file.
@@ -130,9 +165,14 @@ impl Document {
             return;
         }
         let previous = std::mem::replace(&mut self.scene, next);
-        self.undo.push(previous);
-        if self.undo.len() > UNDO_DEPTH {
-            self.undo.remove(0);
+        if self.gesture != Gesture::Recorded {
+            self.undo.push(previous);
+            if self.undo.len() > UNDO_DEPTH {
+                self.undo.remove(0);
+            }
+        }
+        if self.gesture == Gesture::Open {
+            self.gesture = Gesture::Recorded;
         }
         self.redo.clear();
         self.changed();

@@ -1,6 +1,8 @@
 //! The layout view (seed §5.1): the polygon in its model (Poincaré disk, stereographic or
 //! Euclidean plane), edges coloured, the free parameters, the shape presets, and the placement
 //! arrow: drag in the view to move the polygon, drag with Shift (or the right button) to turn it.
+//! The room's objects (white rings) and lights (yellow dots) are shown where they stand and are
+//! placed by dragging them: the layout view is also the room's top view.
 
 use egui::{Color32, Pos2, Stroke, Ui, Vec2};
 use num_complex::Complex64;
@@ -23,6 +25,13 @@ pub fn wall_colour(i: usize) -> Color32 {
         Color32::from_rgb(150, 150, 150),
     ];
     COLOURS[i % COLOURS.len()]
+}
+
+/// What a drag in the layout view holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Item {
+    Object(usize),
+    Light(usize),
 }
 
 /// Points along wall `i` of the layout, in model coordinates.
@@ -130,6 +139,7 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
 fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
     let side = ui.available_width().clamp(160.0, 420.0);
     let (rect, response) = ui.allocate_exact_size(Vec2::splat(side), egui::Sense::drag());
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "top view"));
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 4.0, Color32::from_gray(24));
     let space = layout.space();
@@ -164,7 +174,51 @@ fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
     let c = to_screen(layout.centre);
     let heading = Vec2::angled(-(layout.heading as f32)) * 28.0;
     painter.arrow(c, heading, Stroke::new(2.0, Color32::YELLOW));
-    if response.dragged() {
+    let from_screen = |p: Pos2| -> Complex64 {
+        let d = p - rect.center();
+        Complex64::new(f64::from(d.x) / scale, -f64::from(d.y) / scale)
+    };
+    // Objects (white rings) and lights (yellow dots), placed by dragging.
+    for o in &scene.objects {
+        let p = to_screen(Complex64::new(o.at[0], o.at[1]));
+        painter.circle_stroke(p, 6.0, Stroke::new(2.0, Color32::WHITE));
+    }
+    for l in &scene.lights {
+        let p = to_screen(Complex64::new(l.at[0], l.at[1]));
+        painter.circle_filled(p, 4.0, Color32::from_rgb(250, 220, 120));
+    }
+    let held = ui.make_persistent_id("layout view: dragged item");
+    if response.drag_started()
+        && let Some(pointer) = response.interact_pointer_pos()
+    {
+        let near = |at: [f64; 2]| to_screen(Complex64::new(at[0], at[1])).distance(pointer) < 10.0;
+        let item = scene
+            .objects
+            .iter()
+            .position(|o| near(o.at))
+            .map(Item::Object)
+            .or_else(|| {
+                scene
+                    .lights
+                    .iter()
+                    .position(|l| near(l.at))
+                    .map(Item::Light)
+            });
+        ui.data_mut(|d| d.insert_temp(held, item));
+    }
+    let item: Option<Item> = ui.data(|d| d.get_temp(held)).flatten();
+    if response.dragged()
+        && let (Some(item), Some(pointer)) = (item, response.interact_pointer_pos())
+    {
+        let z = from_screen(pointer);
+        let inside = space.kappa() >= 0.0 || z.norm() < 0.999;
+        if inside {
+            match item {
+                Item::Object(i) => scene.objects[i].at = [z.re, z.im],
+                Item::Light(i) => scene.lights[i].at = [z.re, z.im],
+            }
+        }
+    } else if response.dragged() {
         let delta = response.drag_delta();
         let turning =
             ui.input(|i| i.modifiers.shift) || response.dragged_by(egui::PointerButton::Secondary);

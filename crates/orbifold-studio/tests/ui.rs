@@ -138,6 +138,33 @@ fn mirrors_objects_and_lights_added_in_the_panels_survive_save_and_reopen() {
 }
 
 #[test]
+fn objects_are_placed_by_dragging_in_the_top_view_and_a_drag_is_one_undo_step() {
+    let mut harness = harness(Scene::default());
+    // The default room's figure stands at the centre of the Poincaré disk, which is the centre
+    // of the top view.
+    let view = harness.get_by_label("top view").rect();
+    let start = view.center();
+    let end = start + egui::vec2(24.0, -12.0);
+    harness.hover_at(start);
+    harness.run();
+    harness.drag_at(start);
+    harness.run();
+    for k in 1..=6 {
+        harness.hover_at(start + (end - start) * (k as f32 / 6.0));
+        harness.run();
+    }
+    harness.drop_at(end);
+    harness.run();
+    let at = harness.state().document.scene().objects[0].at;
+    assert!(at[0] > 0.01 && at[1] > 0.005, "the figure is at {at:?}");
+    // The light stayed, and the polygon did not move.
+    assert_eq!(harness.state().document.scene().orbifold.at, [0.0, 0.0]);
+    harness.get_by_label("undo").click();
+    harness.run();
+    assert_eq!(harness.state().document.scene().objects[0].at, [0.0, 0.0]);
+}
+
+#[test]
 fn undo_and_redo_walk_the_history() {
     let mut harness = harness(Scene::default());
     let original = harness.state().document.scene().clone();
