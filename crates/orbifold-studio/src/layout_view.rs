@@ -6,6 +6,7 @@
 
 use egui::{Color32, Pos2, Stroke, Ui, Vec2};
 use num_complex::Complex64;
+use orbifold::layout::ParameterMeaning;
 use orbifold::space::ModelGeodesic;
 use orbifold::{Geometry, Layout};
 use orbifold_scene::{Scene, ShapeName};
@@ -112,11 +113,17 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     if next.orbifold.shape != scene.orbifold.shape {
         next.orbifold.parameters.clear();
     }
+    let mut highlight = None;
     if !layout.parameters.is_empty() && next.orbifold.shape == ShapeName::Default {
         let mut values = layout.parameters.clone();
+        let meaning = layout.parameter_meaning.describe(layout.vertices.len());
         egui::Grid::new("parameters").num_columns(2).show(ui, |ui| {
             for (i, v) in values.iter_mut().enumerate() {
-                labelled_value(ui, &format!("parameter {}", i + 1), v, 0.01..=20.0, 0.01);
+                let r = labelled_value(ui, &format!("parameter {}", i + 1), v, 0.01..=20.0, 0.01)
+                    .on_hover_text(&meaning);
+                if r.hovered() || r.dragged() || r.has_focus() {
+                    highlight = Some(i);
+                }
                 ui.end_row();
             }
         });
@@ -131,12 +138,43 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
         labelled_value(ui, "y", &mut next.orbifold.at[1], -0.95..=0.95, 0.005);
         labelled_value(ui, "turn", &mut next.orbifold.angle, -360.0..=360.0, 0.5);
     });
-    draw(ui, &layout, &mut next);
+    draw(ui, &layout, &mut next, highlight);
     (next != *scene).then_some(next)
 }
 
+/// The walls a free parameter controls, and the cut between them (model points along their
+/// common perpendicular), for parameter `j` (0-based).
+pub fn parameter_cut(layout: &Layout, j: usize) -> (Vec<usize>, Vec<Complex64>) {
+    let n = layout.edges.len();
+    match layout.parameter_meaning {
+        ParameterMeaning::AspectRatio => (vec![0, 1], Vec::new()),
+        ParameterMeaning::WallDistances if j + 1 < n => {
+            let (a, b) = (n - 1, j + 1);
+            let space = layout.space();
+            let (nu, mu) = (layout.edges[a].wall, layout.edges[b].wall);
+            // The common perpendicular's form is orthogonal to both under the dual form; its
+            // feet lie on it and on each wall.
+            let g = |v: glam::DVec3| glam::DVec3::new(v.x, v.y, space.kappa() * v.z);
+            let perpendicular = g(nu.cross(mu));
+            let foot = |wall: glam::DVec3| {
+                let p = perpendicular.cross(wall);
+                let p = if p.z < 0.0 { -p } else { p };
+                (space.point_dot(p, p) * space.kappa() > 0.0).then(|| space.normalize_point(p))
+            };
+            let cut = match (foot(nu), foot(mu)) {
+                (Some(p), Some(q)) => (0..=24)
+                    .map(|k| space.to_model(space.interpolate(p, q, f64::from(k) / 24.0)))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            (vec![a, b], cut)
+        }
+        _ => (Vec::new(), Vec::new()),
+    }
+}
+
 /// Draws the polygon in its model; dragging moves or turns it.
-fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
+fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene, highlight: Option<usize>) {
     let side = ui.available_width().clamp(160.0, 420.0);
     let (rect, response) = ui.allocate_exact_size(Vec2::splat(side), egui::Sense::drag());
     response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Canvas, true, "top view"));
@@ -163,9 +201,23 @@ fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene) {
     if space.geometry() == Geometry::Hyperbolic {
         painter.circle_stroke(rect.center(), scale as f32, Stroke::new(1.0, Color32::GRAY));
     }
+    let (controlled, cut) = highlight.map_or_else(Default::default, |j| parameter_cut(layout, j));
     for i in 0..layout.edges.len() {
         let points: Vec<Pos2> = wall_points(layout, i).into_iter().map(to_screen).collect();
-        painter.add(egui::Shape::line(points, Stroke::new(2.5, wall_colour(i))));
+        let width = if controlled.contains(&i) { 5.0 } else { 2.5 };
+        painter.add(egui::Shape::line(
+            points,
+            Stroke::new(width, wall_colour(i)),
+        ));
+    }
+    if !cut.is_empty() {
+        let points: Vec<Pos2> = cut.into_iter().map(to_screen).collect();
+        painter.add(egui::Shape::dashed_line(
+            &points,
+            Stroke::new(2.0, Color32::WHITE),
+            6.0,
+            4.0,
+        ));
     }
     for v in &layout.vertices {
         painter.circle_filled(to_screen(v.position), 3.0, Color32::WHITE);

@@ -34,7 +34,8 @@ pub struct View3d {
     pub stats: Option<orbifold_preview::Stats>,
     /// The last error, for the status line.
     pub error: Option<String>,
-    loaded: Option<u64>,
+    /// The revision and scene the preview holds.
+    loaded: Option<(u64, Scene)>,
 }
 
 impl View3d {
@@ -197,9 +198,10 @@ impl View3d {
             }
         };
         let result = (|| -> Result<orbifold_preview::Frame, orbifold_preview::PreviewError> {
-            if self.loaded != Some(revision) {
-                preview.load(scene, base)?;
-                self.loaded = Some(revision);
+            if self.loaded.as_ref().is_none_or(|(r, _)| *r != revision) {
+                let before = self.loaded.take().map(|(_, s)| s);
+                update(preview, before.as_ref(), scene, base)?;
+                self.loaded = Some((revision, scene.clone()));
             }
             preview.set_camera(&self.camera);
             let mut settings = preview.settings();
@@ -237,6 +239,51 @@ impl View3d {
                 self.loaded = None;
             }
         }
+    }
+}
+
+/// Brings the preview from the scene `before` to `after` the cheapest way: objects moved are
+/// placed anew (nothing rebuilt), a changed room without changed objects rebuilds the room only,
+/// and anything else loads the whole scene.
+fn update(
+    preview: &mut Preview,
+    before: Option<&Scene>,
+    after: &Scene,
+    base: Option<&std::path::Path>,
+) -> Result<(), orbifold_preview::PreviewError> {
+    let Some(before) = before else {
+        return preview.load(after, base);
+    };
+    let unplaced = |s: &Scene| {
+        let mut s = s.clone();
+        s.objects.iter_mut().for_each(|o| {
+            o.at = [0.0; 2];
+            o.height = 0.0;
+            o.yaw = 0.0;
+        });
+        // What the preview does not draw.
+        s.lights.clear();
+        s.camera = Camera::default();
+        s.render = Default::default();
+        s.preview = Default::default();
+        s
+    };
+    let (a, b) = (unplaced(before), unplaced(after));
+    if a == b {
+        for i in 0..after.objects.len() {
+            if before.objects[i] != after.objects[i] {
+                preview.set_object_placement(i, &after.object_placement(i))?;
+            }
+        }
+        return Ok(());
+    }
+    // Objects are embedded in their plane: a new geometry needs them embedded again.
+    let geometry = |s: &Scene| s.layout().map(|l| l.space().kappa()).ok();
+    let room_only = before.objects == after.objects && geometry(before) == geometry(after);
+    if room_only {
+        preview.set_room(after)
+    } else {
+        preview.load(after, base)
     }
 }
 
