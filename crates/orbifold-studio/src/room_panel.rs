@@ -184,6 +184,32 @@ fn objects(ui: &mut Ui, scene: &mut Scene) {
             });
         }
     });
+    ui.horizontal(|ui| {
+        let id = ui.make_persistent_id("new object mesh");
+        let mut path: String = ui.data(|d| d.get_temp(id)).unwrap_or_default();
+        let label = ui.label("mesh file");
+        ui.add(
+            egui::TextEdit::singleline(&mut path)
+                .hint_text("OBJ, PLY, glTF")
+                .desired_width(150.0),
+        )
+        .labelled_by(label.id);
+        if ui
+            .add_enabled(
+                !path.trim().is_empty(),
+                egui::Button::new("add mesh object"),
+            )
+            .clicked()
+        {
+            scene.objects.push(Object {
+                mesh: Some(path.trim().to_string()),
+                at: [centre.re, centre.im],
+                size: 0.4,
+                ..Object::default()
+            });
+        }
+        ui.data_mut(|d| d.insert_temp(id, path));
+    });
     let mut remove = None;
     for (i, object) in scene.objects.iter_mut().enumerate() {
         let name = object.name.clone().unwrap_or_else(|| format!("object {i}"));

@@ -165,6 +165,40 @@ fn objects_are_placed_by_dragging_in_the_top_view_and_a_drag_is_one_undo_step() 
 }
 
 #[test]
+fn a_mesh_file_becomes_an_object_and_a_broken_one_is_reported() {
+    let dir = std::env::temp_dir().join(format!("orbifold-studio-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("tetrahedron.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let mut harness = harness(Scene::default());
+    let add = |harness: &mut Harness<'static, Studio>, path: &str| {
+        harness
+            .get_by_role_and_label(Role::TextInput, "mesh file")
+            .set_text_value_accesskit(path);
+        harness.run();
+        harness.get_by_label("add mesh object").click();
+        harness.run();
+    };
+    add(&mut harness, obj.to_str().unwrap());
+    let scene = harness.state().document.scene();
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(scene.objects[1].mesh.as_deref(), obj.to_str());
+    assert_eq!(harness.state().view.error, None);
+    // A file that is not there: the preview says so, nothing panics, and undo brings the
+    // preview back.
+    add(&mut harness, dir.join("missing.obj").to_str().unwrap());
+    let error = harness.state().view.error.clone().unwrap_or_default();
+    assert!(error.contains("missing.obj"), "{error}");
+    harness.get_by_label("undo").click();
+    harness.run();
+    assert_eq!(harness.state().view.error, None);
+}
+
+#[test]
 fn undo_and_redo_walk_the_history() {
     let mut harness = harness(Scene::default());
     let original = harness.state().document.scene().clone();
