@@ -81,17 +81,7 @@ impl View {
     /// previewed as a pinhole camera with the same position, yaw, pitch and field of view.
     pub fn new(space: Space, camera: &CameraSettings, projection: Projection) -> View {
         let eye_model = Complex64::new(camera.at[0], camera.at[1]);
-        let (yaw, pitch) = (camera.yaw.to_radians(), camera.pitch.to_radians());
-        let forward = DVec3::new(
-            pitch.cos() * yaw.cos(),
-            pitch.cos() * yaw.sin(),
-            pitch.sin(),
-        );
-        let right = forward
-            .cross(DVec3::Z)
-            .try_normalize()
-            .unwrap_or(DVec3::new(yaw.sin(), -yaw.cos(), 0.0));
-        let up = right.cross(forward);
+        let [forward, right, up] = camera.basis();
         // The translation from O to the eye has a real positive derivative at O, so it carries
         // the ambient axes at O onto the model's +x and +y at the eye: its inverse is the view.
         let to_eye = Isometry::translation(space, eye_model).inverse().matrix();

@@ -49,18 +49,8 @@ impl Camera {
     /// The camera of a scene's `[camera]` settings (angles in degrees).
     pub fn new(space: Space, settings: &CameraSettings) -> Camera {
         let z = Complex64::new(settings.at[0], settings.at[1]);
-        let (yaw, pitch) = (settings.yaw.to_radians(), settings.pitch.to_radians());
-        let forward = DVec3::new(
-            pitch.cos() * yaw.cos(),
-            pitch.cos() * yaw.sin(),
-            pitch.sin(),
-        );
-        // Straight up or down, the right vector is the one of the yaw alone.
-        let right = forward
-            .cross(DVec3::Z)
-            .try_normalize()
-            .unwrap_or(DVec3::new(yaw.sin(), -yaw.cos(), 0.0));
-        let up = right.cross(forward);
+        let yaw = settings.yaw.to_radians();
+        let [forward, right, up] = settings.basis();
         Camera {
             space,
             eye: space.to_ambient(z),

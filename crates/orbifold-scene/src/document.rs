@@ -429,6 +429,35 @@ pub struct Camera {
     pub fov: f64,
 }
 
+impl Camera {
+    /// The pinhole camera's forward, right and up vectors in the eye's orthonormal frame
+    /// (model +x, model +y, up), DESIGN.md §8: forward = (cos pitch cos yaw, cos pitch sin yaw,
+    /// sin pitch), right = normalise(forward × up_world), up = right × forward. Straight up or
+    /// down, right is the one of the yaw alone. The tracer and the preview share it.
+    ///
+    /// ```
+    /// use orbifold_scene::Camera;
+    /// let [forward, right, up] = Camera { yaw: 90.0, pitch: 0.0, ..Camera::default() }.basis();
+    /// assert!((forward - glam::DVec3::Y).length() < 1e-15);
+    /// assert!((right - glam::DVec3::X).length() < 1e-15);
+    /// assert!((up - glam::DVec3::Z).length() < 1e-15);
+    /// ```
+    pub fn basis(&self) -> [glam::DVec3; 3] {
+        use glam::DVec3;
+        let (yaw, pitch) = (self.yaw.to_radians(), self.pitch.to_radians());
+        let forward = DVec3::new(
+            pitch.cos() * yaw.cos(),
+            pitch.cos() * yaw.sin(),
+            pitch.sin(),
+        );
+        let right = forward
+            .cross(DVec3::Z)
+            .try_normalize()
+            .unwrap_or(DVec3::new(yaw.sin(), -yaw.cos(), 0.0));
+        [forward, right, right.cross(forward)]
+    }
+}
+
 impl Default for Camera {
     fn default() -> Self {
         Camera {
