@@ -58,26 +58,46 @@ fn colour(ui: &mut Ui, name: &str, color: &mut Color) {
     }
 }
 
-/// A surface's material: a colour or a checkerboard (other materials keep their settings and
-/// show their representative colour).
+/// The kinds of surface the panel edits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Surface {
+    Colour,
+    Checker,
+    Texture,
+}
+
+/// A surface's material: a colour, a checkerboard or an image texture (other materials keep
+/// their settings and show their representative colour).
 fn material(ui: &mut Ui, name: &str, material: &mut Material) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label(name);
-        let mut checker = matches!(material, Material::Checker { .. });
-        if ui
-            .checkbox(&mut checker, format!("{name} checkerboard"))
-            .changed()
-        {
-            let base = orbifold_scene::geometry::representative(material);
-            *material = if checker {
-                Material::Checker {
-                    colors: [base, base.map(|c| c * 0.6)],
-                    size: 0.1,
-                    coordinates: Default::default(),
-                }
-            } else {
-                Material::Color { color: base }
-            };
+        let kind = match material {
+            Material::Checker { .. } => Some(Surface::Checker),
+            Material::Texture { .. } => Some(Surface::Texture),
+            Material::Color { .. } => Some(Surface::Colour),
+            _ => None,
+        };
+        if let Some(kind) = kind {
+            let mut chosen = kind;
+            ui.selectable_value(&mut chosen, Surface::Colour, format!("{name}: colour"));
+            ui.selectable_value(&mut chosen, Surface::Checker, format!("{name}: checker"));
+            ui.selectable_value(&mut chosen, Surface::Texture, format!("{name}: image"));
+            if chosen != kind {
+                let base = orbifold_scene::geometry::representative(material);
+                *material = match chosen {
+                    Surface::Colour => Material::Color { color: base },
+                    Surface::Checker => Material::Checker {
+                        colors: [base, base.map(|c| c * 0.6)],
+                        size: 0.1,
+                        coordinates: Default::default(),
+                    },
+                    Surface::Texture => Material::Texture {
+                        path: String::new(),
+                        scale: 0.5,
+                        coordinates: Default::default(),
+                    },
+                };
+            }
         }
         match material {
             Material::Color { color } => colour(ui, &format!("{name} colour"), color),
@@ -86,11 +106,19 @@ fn material(ui: &mut Ui, name: &str, material: &mut Material) {
                 colour(ui, &format!("{name} colour 2"), &mut colors[1]);
                 labelled_value(ui, &format!("{name} square"), size, 0.005..=5.0, 0.002);
             }
+            Material::Texture { path, scale, .. } => {
+                let label = ui.label(format!("{name} image file"));
+                ui.add(
+                    egui::TextEdit::singleline(path)
+                        .hint_text("PNG or JPEG")
+                        .desired_width(140.0),
+                )
+                .labelled_by(label.id);
+                labelled_value(ui, &format!("{name} image size"), scale, 0.01..=50.0, 0.005);
+            }
             other => {
-                ui.label(format!(
-                    "{:?}",
-                    orbifold_scene::geometry::representative(other)
-                ));
+                let c = orbifold_scene::geometry::representative(other);
+                ui.label(format!("(set in the scene file; shown as {c:.2?})"));
             }
         }
     });

@@ -3,7 +3,8 @@
 //!
 //! Keys: W/S or ↑/↓ walk forward and back along the geodesic, A/D or ←/→ turn, Q/E look up and
 //! down; dragging in the view turns and tilts. Walking moves the view's own camera; "Use this
-//! view" makes it the scene's camera (one undoable edit).
+//! view" makes it the scene's camera (one undoable edit). While the camera moves the view draws
+//! two reflections fewer, and the full depth again as soon as it stops.
 
 use egui::{Color32, Ui};
 use num_complex::Complex64;
@@ -36,6 +37,8 @@ pub struct View3d {
     pub error: Option<String>,
     /// The revision and scene the preview holds.
     loaded: Option<(u64, Scene)>,
+    /// Whether the camera is moving (keys held or a drag under way).
+    moving: bool,
 }
 
 impl View3d {
@@ -52,6 +55,7 @@ impl View3d {
             stats: None,
             error: None,
             loaded: None,
+            moving: false,
         }
     }
 
@@ -130,6 +134,7 @@ impl View3d {
 
     /// Keys and drags move the view's camera.
     fn walk(&mut self, ui: &Ui, response: &egui::Response, scene: &Scene) {
+        self.moving = response.dragged();
         if response.dragged() {
             let d = response.drag_delta();
             self.camera.yaw -= f64::from(d.x) * 0.3;
@@ -162,7 +167,18 @@ impl View3d {
             walk(layout.space(), &mut self.camera, forward * WALK_SPEED * dt);
         }
         if forward != 0.0 || turn != 0.0 || tilt != 0.0 {
+            self.moving = true;
             ui.ctx().request_repaint();
+        }
+    }
+
+    /// The depth drawn: while the camera moves, two reflections less (at least 2), so that
+    /// walking stays fluid on a slow adapter; the full depth as soon as it stops.
+    fn drawn_depth(&self) -> u32 {
+        if self.moving {
+            self.depth.min(self.depth.saturating_sub(2).max(2))
+        } else {
+            self.depth
         }
     }
 
@@ -175,10 +191,11 @@ impl View3d {
         revision: u64,
         size: [usize; 2],
     ) {
+        let depth = self.drawn_depth();
         let key = (
             revision,
             self.camera.clone(),
-            self.depth,
+            depth,
             self.attenuation,
             self.straight,
             size,
@@ -205,7 +222,7 @@ impl View3d {
             }
             preview.set_camera(&self.camera);
             let mut settings = preview.settings();
-            settings.depth = self.depth;
+            settings.depth = depth;
             settings.attenuation = self.attenuation;
             settings.projection = if self.straight {
                 Projection::Straight

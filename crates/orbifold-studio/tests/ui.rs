@@ -13,7 +13,8 @@ use orbifold_studio::{Studio, app::Tab};
 fn harness(scene: Scene) -> Harness<'static, Studio> {
     let studio = Studio::new(Document::with_scene(scene, None, None), None);
     Harness::builder()
-        .with_size(egui::vec2(1440.0, 900.0))
+        // Tall enough for every row of the room panel without scrolling.
+        .with_size(egui::vec2(1440.0, 1400.0))
         .build_ui_state(|ui, studio: &mut Studio| studio.ui(ui), studio)
 }
 
@@ -196,6 +197,31 @@ fn a_mesh_file_becomes_an_object_and_a_broken_one_is_reported() {
     harness.get_by_label("undo").click();
     harness.run();
     assert_eq!(harness.state().view.error, None);
+}
+
+#[test]
+fn floors_and_ceilings_are_colours_checkerboards_or_images() {
+    let mut harness = harness(Scene::default());
+    harness.get_by_label("ceiling: checker").click();
+    harness.run();
+    harness.get_by_label("floor: image").click();
+    harness.run();
+    harness
+        .get_by_role_and_label(Role::TextInput, "floor image file")
+        .set_text_value_accesskit("wood.png");
+    harness.run();
+    set(&mut harness, "floor image size", 0.25);
+    let room = &harness.state().document.scene().room;
+    assert!(matches!(
+        room.ceiling,
+        orbifold_scene::Material::Checker { .. }
+    ));
+    match &room.floor {
+        orbifold_scene::Material::Texture { path, scale, .. } => {
+            assert_eq!((path.as_str(), *scale), ("wood.png", 0.25));
+        }
+        other => panic!("the floor is {other:?}"),
+    }
 }
 
 #[test]
