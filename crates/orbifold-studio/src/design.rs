@@ -177,7 +177,7 @@ pub fn show(ui: &mut Ui, current: &str) -> Option<String> {
                 ui.label("canonical");
                 ui.label(shown(&s.canonical));
                 ui.end_row();
-                ui.label("χ");
+                ui.label("Euler char.");
                 ui.label(format!("χ = {}", s.chi));
                 ui.end_row();
                 ui.label("geometry");
