@@ -17,7 +17,7 @@ Usage: orbifold-studio [SCENE.toml] [--screenshot FILE.png]
 Opens SCENE.toml, or the seed's default *22222 room. --screenshot writes a picture of the window
 after the first frames and quits. Keys: Ctrl+N new, Ctrl+O open, Ctrl+S save, Ctrl+Z undo,
 Ctrl+Shift+Z or Ctrl+Y redo; in the 3D view W/S walk, A/D turn, Q/E look up and down, drag to
-look around. See docs/studio.md.";
+look around. See docs/guide.md.";
 
 fn main() -> ExitCode {
     let mut scene_path = None;
