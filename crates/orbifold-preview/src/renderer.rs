@@ -527,14 +527,7 @@ impl Preview {
         if self.stale {
             self.upload_view(width, height);
         }
-        let mut encoder = self
-            .gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("preview frame"),
-            });
-        self.encode(&mut encoder, Pass::Opaque);
-        self.gpu.queue.submit([encoder.finish()]);
+        self.submit(Pass::Opaque);
         Ok(&self.target.as_ref().expect("target made above").color)
     }
 
@@ -548,14 +541,7 @@ impl Preview {
         height: u32,
     ) -> Result<Vec<(u32, u32, u32)>, PreviewError> {
         self.draw(width, height)?;
-        let mut encoder = self
-            .gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("preview vertices"),
-            });
-        self.encode(&mut encoder, Pass::Points);
-        self.gpu.queue.submit([encoder.finish()]);
+        self.submit(Pass::Points);
         let target = self.target.as_ref().expect("drawn above");
         let ids = read_texture(&self.gpu, &target.id, width, height)?;
         let ids: &[i32] = bytemuck::cast_slice(&ids);
@@ -579,14 +565,7 @@ impl Preview {
     /// Draws a frame and reads it back: colours and surface ids.
     pub fn render(&mut self, width: u32, height: u32) -> Result<Frame, PreviewError> {
         self.draw(width, height)?;
-        let mut encoder = self
-            .gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("preview surface ids"),
-            });
-        self.encode(&mut encoder, Pass::Ids);
-        self.gpu.queue.submit([encoder.finish()]);
+        self.submit(Pass::Ids);
         let target = self.target.as_ref().expect("drawn above");
         let color = read_texture(&self.gpu, &target.color, width, height)?;
         let ids = read_texture(&self.gpu, &target.id, width, height)?;
@@ -650,6 +629,18 @@ impl Preview {
             triangles: instances.len() * state.triangles(),
         };
         self.stale = false;
+    }
+
+    /// Records one pass and sends it to the GPU.
+    fn submit(&self, pass: Pass) {
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("preview pass"),
+            });
+        self.encode(&mut encoder, pass);
+        self.gpu.queue.submit([encoder.finish()]);
     }
 
     /// Records a pass: the antialiased picture, the surface ids, or the room's own vertices
