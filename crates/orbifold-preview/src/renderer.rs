@@ -325,13 +325,7 @@ impl Preview {
             target: None,
             scene: None,
             camera: CameraSettings::default(),
-            settings: Settings {
-                depth: 6,
-                attenuation: Attenuation::Reflectance,
-                projection: Projection::Curved,
-                cull: true,
-                turns: DEFAULT_TURNS,
-            },
+            settings: Settings::of_scene(&Scene::default()),
             stats: Stats::default(),
             stale: true,
         }
@@ -381,7 +375,12 @@ impl Preview {
             ..self.settings
         };
         self.camera = scene.camera.clone();
-        self.set_room(scene)
+        self.set_room(scene).inspect_err(|_| {
+            // Half a scene is worse than none: drawing says so until a scene loads.
+            self.scene = None;
+            self.room = None;
+            self.objects = None;
+        })
     }
 
     /// Rebuilds the room (its layout, height, mirrors and materials changed) and its copies,
