@@ -110,6 +110,10 @@ pub struct PreviewArgs {
     /// Draw every copy, also those that cannot be in view.
     #[arg(long)]
     pub no_cull: bool,
+    /// Draw every object at full detail, also in far copies (by default far copies draw their
+    /// objects simplified to about one triangle per pixel).
+    #[arg(long)]
+    pub no_lod: bool,
     /// Turn the camera to this bearing (degrees from the model's +x, counter-clockwise).
     #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
     pub yaw: Option<f64>,

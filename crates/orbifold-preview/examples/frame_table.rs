@@ -2,8 +2,10 @@
 //! docs/benchmarks.md:
 //!
 //! ```text
-//! cargo run --release -p orbifold-preview --example frame_table [-- WxH FRAMES]
+//! cargo run --release -p orbifold-preview --example frame_table [-- WxH FRAMES [full]]
 //! ```
+//!
+//! `full` draws every object at full detail in every copy (no levels of detail).
 //!
 //! Scenes: the seed's Fig. 8.4 pair (`*235` and `*2352` rooms with a dragon,
 //! `../shared/models/dragon.ply`, 47,794 triangles; the built-in figure if it is missing) and the
@@ -54,9 +56,11 @@ fn main() {
             (w.parse().unwrap(), h.parse().unwrap())
         });
     let frames: usize = args.get(1).map_or(30, |s| s.parse().unwrap());
+    let lod = args.get(2).is_none_or(|a| a != "full");
     let gpu = Gpu::headless().expect("an adapter");
+    let detail = if lod { "on" } else { "off" };
     println!(
-        "adapter: {}; {width}x{height}, median of {frames} frames\n",
+        "adapter: {}; {width}x{height}, median of {frames} frames, levels of detail {detail}\n",
         gpu.describe()
     );
     println!(
@@ -84,6 +88,9 @@ fn main() {
     }
     for (label, scene) in rows {
         preview.load(&scene, None).expect("the scene loads");
+        let mut settings = preview.settings();
+        settings.lod = lod;
+        preview.set_settings(settings).expect("settings");
         let mut times = Vec::with_capacity(frames);
         for k in 0..frames + 2 {
             let mut camera = scene.camera.clone();

@@ -144,8 +144,12 @@ impl MeshData {
 /// The objects of a scene: their meshes in their own frames, their styles and placements.
 #[derive(Clone, Debug, Default)]
 pub struct ObjectMeshes {
-    /// All objects' triangles (part index i is object i).
+    /// All objects' triangles (part index i is object i), at full detail; `levels` lists the
+    /// index ranges of each level of detail.
     pub mesh: MeshData,
+    /// The index ranges of the levels of detail, finest first: level 0 is every triangle, each
+    /// further level about a quarter of the one before (see [`LEVELS`]).
+    pub levels: Vec<Range<u32>>,
     /// One style per object, placed.
     pub styles: Vec<PartStyle>,
     /// Each object's radius: the largest intrinsic distance of a vertex from its centre, and
@@ -188,7 +192,56 @@ pub fn objects(
     let end = out.mesh.indices.len() as u32;
     out.mesh.opaque = 0..end;
     out.mesh.mirrors = end..end;
+    out.levels = vec![0..end];
+    add_levels(&mut out);
     Ok(out)
+}
+
+/// Levels of detail of the objects: every triangle, then about 1/4, 1/16 and 1/64 of them.
+pub const LEVELS: usize = 4;
+
+/// Appends the coarser levels of detail of the objects to their index list: each object
+/// simplified (meshoptimizer, in the object's tangent-plane coordinates: x, y, height) to about
+/// a quarter of the triangles of the level before, keeping at least 16.
+fn add_levels(out: &mut ObjectMeshes) {
+    let positions: Vec<[f32; 3]> = out
+        .mesh
+        .vertices
+        .iter()
+        .map(|v| [v.position[0], v.position[1], v.height])
+        .collect();
+    let bytes: &[u8] = bytemuck::cast_slice(&positions);
+    let Ok(adapter) = meshopt::VertexDataAdapter::new(bytes, 12, 0) else {
+        return;
+    };
+    // Each object's triangles at full detail.
+    let full = out.mesh.indices.clone();
+    let mut objects: Vec<Vec<u32>> = vec![Vec::new(); out.styles.len()];
+    for t in full.chunks_exact(3) {
+        let part = out.mesh.vertices[t[0] as usize].part as usize;
+        if let Some(list) = objects.get_mut(part) {
+            list.extend_from_slice(t);
+        }
+    }
+    for _ in 1..LEVELS {
+        let start = out.mesh.indices.len() as u32;
+        for list in &mut objects {
+            let target = (list.len() / 4 / 3 * 3).max(48).min(list.len());
+            let coarser = meshopt::simplify(
+                list,
+                &adapter,
+                target,
+                0.05,
+                meshopt::SimplifyOptions::empty(),
+                None,
+            );
+            if !coarser.is_empty() && coarser.len() < list.len() {
+                *list = coarser;
+            }
+            out.mesh.indices.extend_from_slice(list);
+        }
+        out.levels.push(start..out.mesh.indices.len() as u32);
+    }
 }
 
 /// The room's floor, ceiling, walls and mirrors, with their styles; part indices start at

@@ -52,6 +52,8 @@ pub struct Settings {
     pub cull: bool,
     /// In S²×R, how many times round the sphere the images go (see [`View::with_turns`]).
     pub turns: u32,
+    /// Whether far copies draw their objects with fewer triangles (levels of detail).
+    pub lod: bool,
 }
 
 impl Settings {
@@ -63,6 +65,7 @@ impl Settings {
             projection: Projection::Curved,
             cull: true,
             turns: DEFAULT_TURNS,
+            lod: true,
         }
     }
 }
@@ -193,6 +196,8 @@ struct SceneState {
     /// The highest point of an object above its base.
     object_top: f64,
     object_triangles: usize,
+    /// The index ranges of the objects' levels of detail, finest first.
+    object_levels: Vec<std::ops::Range<u32>>,
     /// The largest intrinsic distance from the room's centre to its boundary.
     room_radius: f64,
     room_triangles: usize,
@@ -245,6 +250,8 @@ pub struct Preview {
     stats: Stats,
     /// Whether the instance buffer must be rebuilt before the next frame.
     stale: bool,
+    /// The instances of each level of detail (the instance buffer is sorted by level).
+    instance_levels: Vec<std::ops::Range<u32>>,
 }
 
 impl Preview {
@@ -328,6 +335,7 @@ impl Preview {
             settings: Settings::of_scene(&Scene::default()),
             stats: Stats::default(),
             stale: true,
+            instance_levels: Vec::new(),
         }
     }
 
@@ -364,7 +372,9 @@ impl Preview {
             styles: objects.styles,
             object_radius,
             object_top,
-            object_triangles: objects.mesh.triangles(),
+            // Full detail: the first level (the coarser ones follow it in the index list).
+            object_triangles: objects.levels.first().map_or(0, |l| l.len() / 3),
+            object_levels: objects.levels.clone(),
             room_radius: 0.0,
             room_triangles: 0,
             copies: Vec::new(),
@@ -583,7 +593,8 @@ impl Preview {
         let view = View::new(space, &self.camera, self.settings.projection)
             .with_turns(self.settings.turns);
         let aspect = f64::from(width) / f64::from(height);
-        let (instances, far) = instances(&view, state, self.settings.cull, aspect);
+        let (instances, levels, far) =
+            instances(&view, state, &self.settings, aspect, f64::from(height));
         let [forward, right, up] = view.basis();
         let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
         let mode = f64::from(u8::from(self.settings.projection == Projection::Straight));
@@ -621,12 +632,18 @@ impl Preview {
         {
             self.gpu.queue.write_buffer(buffer, 0, bytes);
         }
+        let drawn: usize = levels
+            .iter()
+            .zip(&state.object_levels)
+            .map(|(copies, l)| copies.len() * (state.room_triangles + l.len() / 3))
+            .sum();
         self.stats = Stats {
             copies: state.copies.len(),
             instances: instances.len(),
             triangles_per_copy: state.triangles(),
-            triangles: instances.len() * state.triangles(),
+            triangles: drawn,
         };
+        self.instance_levels = levels;
         self.stale = false;
     }
 
@@ -717,10 +734,20 @@ impl Preview {
         } else {
             &self.opaque
         });
-        for mesh in meshes.iter().copied().flatten() {
-            render.set_vertex_buffer(0, mesh.vertices.slice(..));
-            render.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            render.draw_indexed(mesh.opaque.clone(), 0, 0..count);
+        if let Some(room) = &self.room {
+            render.set_vertex_buffer(0, room.vertices.slice(..));
+            render.set_index_buffer(room.indices.slice(..), wgpu::IndexFormat::Uint32);
+            render.draw_indexed(room.opaque.clone(), 0, 0..count);
+        }
+        if let (Some(objects), Some(state)) = (&self.objects, &self.scene) {
+            render.set_vertex_buffer(0, objects.vertices.slice(..));
+            render.set_index_buffer(objects.indices.slice(..), wgpu::IndexFormat::Uint32);
+            // Each level of detail with the copies that use it.
+            for (triangles, copies) in state.object_levels.iter().zip(&self.instance_levels) {
+                if !copies.is_empty() {
+                    render.draw_indexed(triangles.clone(), 0, copies.clone());
+                }
+            }
         }
         if pass == Pass::Ids {
             // Mirrors are seen through: the id is what lies behind them.
@@ -757,20 +784,30 @@ fn wall_reflectance(scene: &Scene, wall: usize) -> [f64; 3] {
     }
 }
 
-/// The instances of the copies in view, and the far distance that holds them all.
-fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<InstanceRaw>, f64) {
+/// The instances of the copies in view, sorted by the level of detail of their objects, the
+/// instance range of each level, and the far distance that holds them all.
+fn instances(
+    view: &View,
+    state: &SceneState,
+    settings: &Settings,
+    aspect: f64,
+    height_px: f64,
+) -> (Vec<InstanceRaw>, Vec<std::ops::Range<u32>>, f64) {
     let space = view.space();
     let centre = space.to_ambient(state.layout.centre);
     let reach = state.reach();
     let mut far: f64 = 1.0;
-    let mut out = Vec::with_capacity(state.copies.len() * view.images() as usize);
+    let levels = state.object_levels.len().max(1);
+    let mut by_level: Vec<Vec<InstanceRaw>> = vec![Vec::new(); levels];
+    // Pixels per unit of size at unit distance.
+    let focal = 0.5 * height_px / view.tan_half_fov();
     for image in 0..view.images() {
         for copy in &state.copies {
             let c = copy.matrix * centre;
             let t = view.log(c, 0.5 * state.height.max(state.object_top), image);
             // The log map at the eye never stretches distances where κ ≤ 0, so the copy lies
             // within `reach` of its centre's image; on the sphere it may stretch, so no culling.
-            if cull
+            if settings.cull
                 && space.kappa() <= 0.0
                 && view.projection() == Projection::Curved
                 && !in_view(view, t, reach, aspect)
@@ -778,11 +815,25 @@ fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<I
                 continue;
             }
             far = far.max(t.length() + reach);
+            let level = if settings.lod {
+                // The log map scales sizes across the line of sight by d/S_κ(d) at horizontal
+                // distance d (magnifying near the sphere's antipode, shrinking in H²).
+                let d = t.x.hypot(t.y);
+                let stretch = match view.projection() {
+                    Projection::Curved if d > 1e-9 => d / space.sin(d).abs().max(1e-9),
+                    _ => 1.0,
+                };
+                let size = 2.0 * state.object_radius * stretch;
+                let pixels = size * focal / (t.length() - reach).max(1e-3);
+                detail_level(&state.object_levels, pixels)
+            } else {
+                0
+            };
             let m = view.instance_matrix(&copy.matrix);
             let mut columns =
                 [m.x_axis, m.y_axis, m.z_axis].map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0]);
             columns[0][3] = copy.depth as f32;
-            out.push(InstanceRaw {
+            by_level[level].push(InstanceRaw {
                 columns,
                 tint: [
                     copy.tint[0] as f32,
@@ -797,7 +848,24 @@ fn instances(view: &View, state: &SceneState, cull: bool, aspect: f64) -> (Vec<I
         // Image k reaches (k + 1)π round the sphere.
         far = far.max(std::f64::consts::PI * f64::from(view.images()) + reach);
     }
-    (out, far * 1.01)
+    let mut ranges = Vec::with_capacity(levels);
+    let mut out = Vec::with_capacity(by_level.iter().map(Vec::len).sum());
+    for list in by_level {
+        let start = out.len() as u32;
+        out.extend(list);
+        ranges.push(start..out.len() as u32);
+    }
+    (out, ranges, far * 1.01)
+}
+
+/// The coarsest level of detail that still gives an object about one triangle per pixel of the
+/// square it covers (`pixels` wide): the first level with at most pixels² triangles.
+fn detail_level(levels: &[std::ops::Range<u32>], pixels: f64) -> usize {
+    let budget = pixels * pixels;
+    levels
+        .iter()
+        .position(|l| (l.len() / 3) as f64 <= budget)
+        .unwrap_or(levels.len().saturating_sub(1))
 }
 
 /// Whether a ball of radius `reach` about the tangent vector `t` meets the view frustum.

@@ -98,6 +98,10 @@ fn the_preview_sees_what_the_tracer_sees() {
         let depth = 5;
         let scene = scene(sig, depth);
         preview.load(&scene, None).unwrap();
+        // Every object at full detail: this test holds the projection to the tracer.
+        let mut settings = preview.settings();
+        settings.lod = false;
+        preview.set_settings(settings).unwrap();
         let frame = preview.render(width, height).unwrap();
         let tracer = Tracer::from_scene(&scene, None).unwrap();
         let camera = Camera::new(tracer.space(), &scene.camera);
@@ -170,6 +174,7 @@ fn the_copies_drawn_are_the_tiles_up_to_the_depth() {
         preview.load(&scene, None).unwrap();
         let mut settings = preview.settings();
         settings.cull = false;
+        settings.lod = false;
         preview.set_settings(settings).unwrap();
         preview.render(64, 48).unwrap();
         let stats = preview.stats();
@@ -275,6 +280,37 @@ fn straight_rays_change_curved_rooms_only() {
     }
     assert!(frames[0] > 0.995, "Euclidean: {}", frames[0]);
     assert!(frames[1] < 0.95, "hyperbolic: {}", frames[1]);
+}
+
+#[test]
+fn levels_of_detail_draw_fewer_triangles_and_nearly_the_same_picture() {
+    let Some(gpu) = gpu() else { return };
+    let mut preview = Preview::new(gpu);
+    let mut scene = scene("*2352", 5);
+    scene.objects[0].shape = "torus".into();
+    preview.load(&scene, None).unwrap();
+    let (w, h) = (320, 240);
+    let detailed = {
+        let mut settings = preview.settings();
+        settings.lod = false;
+        preview.set_settings(settings).unwrap();
+        preview.render(w, h).unwrap()
+    };
+    let full = preview.stats();
+    let mut settings = preview.settings();
+    settings.lod = true;
+    preview.set_settings(settings).unwrap();
+    let simplified = preview.render(w, h).unwrap();
+    let lod = preview.stats();
+    assert_eq!(lod.instances, full.instances);
+    assert!(
+        (lod.triangles as f64) < 0.85 * full.triangles as f64,
+        "{} of {} triangles",
+        lod.triangles,
+        full.triangles
+    );
+    let share = agreement(&detailed, &simplified);
+    assert!(share > 0.99, "only {:.2} % of pixels agree", 100.0 * share);
 }
 
 #[test]

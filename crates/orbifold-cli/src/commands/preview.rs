@@ -68,6 +68,7 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
             },
             cull: !args.no_cull,
             turns: preview.settings().turns,
+            lod: !args.no_lod,
         })
         .map_err(|e| CliError::Input(e.to_string()))?;
     let frame = preview.render(width, height).map_err(|e| match e {
