@@ -192,7 +192,7 @@ pub fn objects(
     let end = out.mesh.indices.len() as u32;
     out.mesh.opaque = 0..end;
     out.mesh.mirrors = end..end;
-    out.levels = vec![0..end];
+    out.levels = std::iter::once(0..end).collect();
     add_levels(&mut out);
     Ok(out)
 }
