@@ -220,35 +220,27 @@ impl Studio {
                     }
                 }
             });
-            ui.menu_button("Edit", |ui| {
-                if ui
-                    .add_enabled(self.document.can_undo(), egui::Button::new("Undo"))
-                    .clicked()
-                {
-                    self.document.undo();
-                }
-                if ui
-                    .add_enabled(self.document.can_redo(), egui::Button::new("Redo"))
-                    .clicked()
-                {
-                    self.document.redo();
-                }
-            });
-            if ui
-                .add_enabled(self.document.can_undo(), egui::Button::new("undo"))
-                .clicked()
-            {
-                self.document.undo();
-            }
-            if ui
-                .add_enabled(self.document.can_redo(), egui::Button::new("redo"))
-                .clicked()
-            {
-                self.document.redo();
-            }
+            ui.menu_button("Edit", |ui| self.undo_redo(ui, ["Undo", "Redo"]));
+            self.undo_redo(ui, ["undo", "redo"]);
             ui.separator();
             ui.label(self.document.title());
         });
+    }
+
+    /// Undo and redo buttons with these names, enabled when there is something to undo or redo.
+    fn undo_redo(&mut self, ui: &mut Ui, names: [&str; 2]) {
+        if ui
+            .add_enabled(self.document.can_undo(), egui::Button::new(names[0]))
+            .clicked()
+        {
+            self.document.undo();
+        }
+        if ui
+            .add_enabled(self.document.can_redo(), egui::Button::new(names[1]))
+            .clicked()
+        {
+            self.document.redo();
+        }
     }
 
     fn design(&mut self, ui: &mut Ui) {

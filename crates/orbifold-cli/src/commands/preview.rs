@@ -1,6 +1,5 @@
 //! `orbifold preview`: one frame of the real-time preview, drawn offscreen.
 
-use std::io::Write;
 use std::time::Instant;
 
 use orbifold_preview::{Gpu, Preview, PreviewError, Projection, Settings};
@@ -90,13 +89,8 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
         triangles: stats.triangles,
         seconds: start.elapsed().as_secs_f64(),
     };
-    let mut out = output::stdout();
-    if args.json {
-        serde_json::to_writer_pretty(&mut out, &summary)?;
-        writeln!(out)?;
-    } else {
-        writeln!(
-            out,
+    output::summary(args.json, &summary, || {
+        format!(
             "wrote {} ({}x{}: {} copies, {} drawn, {} triangles, on {}, {:.2} s)",
             summary.output,
             width,
@@ -106,8 +100,6 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
             summary.triangles,
             summary.adapter,
             summary.seconds
-        )?;
-    }
-    out.flush()?;
-    Ok(())
+        )
+    })
 }

@@ -1,6 +1,5 @@
 //! `orbifold render`: a photo-realistic image of a mirror room.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -192,13 +191,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         exposure,
         denoised,
     };
-    let mut out = output::stdout();
-    if args.json {
-        serde_json::to_writer_pretty(&mut out, &summary)?;
-        writeln!(out)?;
-    } else {
-        writeln!(
-            out,
+    output::summary(args.json, &summary, || {
+        format!(
             "wrote {} ({}x{}, {} spp{} in {:.1} s; relative noise {:.4}{})",
             summary.output,
             width,
@@ -212,8 +206,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             summary.seconds,
             summary.relative_noise,
             if denoised { " before denoising" } else { "" }
-        )?;
-    }
-    out.flush()?;
-    Ok(())
+        )
+    })
 }
