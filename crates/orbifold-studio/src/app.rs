@@ -122,9 +122,10 @@ impl Studio {
 
     /// The whole window.
     pub fn ui(&mut self, ui: &mut Ui) {
-        // A drag (of a value, an object, the polygon) is one undo step.
+        // A drag (of a value, an object, the polygon) or typing in a field is one undo step.
         let dragging = ui.input(|i| i.pointer.any_down());
-        self.document.set_gesture(dragging);
+        let typing = ui.ctx().egui_wants_keyboard_input();
+        self.document.set_gesture(dragging || typing);
         self.shortcuts(ui);
         egui::Panel::top("menu").show(ui, |ui| self.menu(ui));
         egui::Panel::bottom("status").show(ui, |ui| self.status_line(ui));

@@ -225,6 +225,36 @@ fn floors_and_ceilings_are_colours_checkerboards_or_images() {
 }
 
 #[test]
+fn typing_in_a_field_is_one_undo_step() {
+    let mut harness = harness(Scene::default());
+    harness.get_by_label("floor: image").click();
+    harness.run();
+    let field = harness.get_by_role_and_label(Role::TextInput, "floor image file");
+    field.focus();
+    harness.run();
+    for part in ["wo", "od", ".png"] {
+        harness
+            .get_by_role_and_label(Role::TextInput, "floor image file")
+            .type_text(part);
+        harness.run();
+    }
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    let floor = |h: &Harness<'static, Studio>| h.state().document.scene().room.floor.clone();
+    assert!(
+        matches!(floor(&harness), orbifold_scene::Material::Texture { ref path, .. } if path == "wood.png")
+    );
+    harness.get_by_label("undo").click();
+    harness.run();
+    assert!(
+        matches!(floor(&harness), orbifold_scene::Material::Texture { ref path, .. } if path.is_empty())
+    );
+    harness.get_by_label("undo").click();
+    harness.run();
+    assert_eq!(floor(&harness), Scene::default().room.floor);
+}
+
+#[test]
 fn undo_and_redo_walk_the_history() {
     let mut harness = harness(Scene::default());
     let original = harness.state().document.scene().clone();
