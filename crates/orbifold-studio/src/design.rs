@@ -201,59 +201,70 @@ pub fn show(ui: &mut Ui, current: &str) -> Option<String> {
             changed = Some(signature(&with_walls(&corners_now, walls_count)));
         }
     });
-    draw_nodes(ui, &corners_now);
+    // The corners as nodes round a circle with their spin boxes on them (seed Fig. 5.1); the
+    // rows below name each corner and hold its ideal toggle.
+    let nodes = draw_nodes(ui, &corners_now);
     let mut next = corners_now.clone();
-    egui::Grid::new("corners").num_columns(3).show(ui, |ui| {
+    let mut names = Vec::with_capacity(next.len());
+    egui::Grid::new("corners").num_columns(2).show(ui, |ui| {
         if next.is_empty() {
             ui.label("corner 1");
             ui.add_enabled(false, egui::Label::new("order 1 (one wall: no corner)"));
             ui.end_row();
         }
         for i in 0..next.len() {
-            let name = format!("corner {}", i + 1);
+            names.push(ui.label(format!("corner {}", i + 1)).id);
             let mut ideal = next[i] == Corner::Ideal;
-            let mut k = match next[i] {
-                Corner::Order(k) => k,
-                Corner::Ideal => 2.0,
-            };
-            let label = ui.label(&name);
-            let drag = ui
-                .add_enabled(
-                    !ideal,
-                    egui::DragValue::new(&mut k)
-                        .range(1.01..=1000.0)
-                        .speed(0.05),
-                )
-                .labelled_by(label.id);
-            let toggle = ui.checkbox(&mut ideal, format!("ideal {}", i + 1));
-            ui.end_row();
-            if drag.changed() || toggle.changed() {
+            if ui
+                .checkbox(&mut ideal, format!("ideal {}", i + 1))
+                .changed()
+            {
                 next[i] = if ideal {
                     Corner::Ideal
                 } else {
-                    Corner::Order(k)
+                    Corner::Order(2.0)
                 };
-                if next.len() == 2 {
-                    // *kk: the two corners move together.
-                    let other = 1 - i;
-                    next[other] = next[i];
-                }
             }
+            ui.end_row();
         }
     });
+    for (i, (&at, &name)) in nodes.iter().zip(&names).enumerate() {
+        let Corner::Order(mut k) = next[i] else {
+            continue;
+        };
+        let spin = egui::DragValue::new(&mut k)
+            .range(1.01..=1000.0)
+            .speed(0.05);
+        let rect = egui::Rect::from_center_size(at, Vec2::new(44.0, 20.0));
+        // A child placed on the node, which leaves the panel's layout where it was.
+        let mut node = ui.new_child(egui::UiBuilder::new().max_rect(rect));
+        if node
+            .add_sized(rect.size(), spin)
+            .labelled_by(name)
+            .changed()
+        {
+            next[i] = Corner::Order(k);
+        }
+    }
+    if next.len() == 2 && next[0] != next[1] {
+        // *kk: the two corners move together.
+        let moved = usize::from(next[1] != corners_now[1]);
+        next[1 - moved] = next[moved];
+    }
     if next != corners_now {
         changed = Some(signature(&next));
     }
     changed
 }
 
-/// The corners as nodes round a circle, each with its order, the walls as arcs between them.
-fn draw_nodes(ui: &mut Ui, corners: &[Corner]) {
-    let size = Vec2::new(ui.available_width().min(220.0), 120.0);
+/// The corners as nodes round a circle, the walls as lines between them; returns where the
+/// nodes are (a single grey node for the one-walled `*`, which has no corner to edit).
+fn draw_nodes(ui: &mut Ui, corners: &[Corner]) -> Vec<Pos2> {
+    let size = Vec2::new(ui.available_width().min(240.0), 150.0);
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     let painter = ui.painter_at(rect);
     let centre = rect.center();
-    let radius = 0.38 * rect.height();
+    let radius = 0.36 * rect.height();
     let n = corners.len().max(1);
     let node = |i: usize| -> Pos2 {
         let a = std::f32::consts::TAU * i as f32 / n as f32 - std::f32::consts::FRAC_PI_2;
@@ -262,29 +273,31 @@ fn draw_nodes(ui: &mut Ui, corners: &[Corner]) {
     let wall = Stroke::new(2.0, Color32::from_rgb(120, 170, 230));
     if corners.is_empty() {
         painter.circle_stroke(centre, radius, wall);
-    } else {
-        for i in 0..n {
-            painter.line_segment([node(i), node((i + 1) % n)], wall);
+        painter.circle_filled(node(0), 11.0, Color32::from_rgb(60, 60, 70));
+        painter.text(
+            node(0),
+            egui::Align2::CENTER_CENTER,
+            "1",
+            egui::FontId::proportional(12.0),
+            Color32::GRAY,
+        );
+        return Vec::new();
+    }
+    for i in 0..n {
+        painter.line_segment([node(i), node((i + 1) % n)], wall);
+    }
+    for (i, corner) in corners.iter().enumerate() {
+        if *corner == Corner::Ideal {
+            // An ideal corner has no order to edit: it is drawn, not spun.
+            painter.circle_filled(node(i), 13.0, Color32::from_rgb(60, 60, 70));
+            painter.text(
+                node(i),
+                egui::Align2::CENTER_CENTER,
+                "inf",
+                egui::FontId::proportional(12.0),
+                Color32::WHITE,
+            );
         }
     }
-    for (i, corner) in corners
-        .iter()
-        .enumerate()
-        .chain((corners.is_empty()).then_some((0, &Corner::Order(1.0))))
-    {
-        let p = node(i);
-        painter.circle_filled(p, 11.0, Color32::from_rgb(60, 60, 70));
-        let text = match corner {
-            Corner::Ideal => "inf".to_string(),
-            Corner::Order(k) if k.fract() == 0.0 => format!("{k}"),
-            Corner::Order(k) => format!("{}", round(*k)),
-        };
-        painter.text(
-            p,
-            egui::Align2::CENTER_CENTER,
-            text,
-            egui::FontId::proportional(12.0),
-            Color32::WHITE,
-        );
-    }
+    (0..n).map(node).collect()
 }
