@@ -212,14 +212,14 @@ pub fn show(ui: &mut Ui, current: &str) -> Option<String> {
             ui.add_enabled(false, egui::Label::new("order 1 (one wall: no corner)"));
             ui.end_row();
         }
-        for i in 0..next.len() {
+        for (i, corner) in next.iter_mut().enumerate() {
             names.push(ui.label(format!("corner {}", i + 1)).id);
-            let mut ideal = next[i] == Corner::Ideal;
+            let mut ideal = *corner == Corner::Ideal;
             if ui
                 .checkbox(&mut ideal, format!("ideal {}", i + 1))
                 .changed()
             {
-                next[i] = if ideal {
+                *corner = if ideal {
                     Corner::Ideal
                 } else {
                     Corner::Order(2.0)
