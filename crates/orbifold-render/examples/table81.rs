@@ -1,7 +1,7 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
-//! [--only SIG] [--mesh FILE]`
+//! [--only SIG] [--mesh FILE] [--save DIR]` (`--save` writes the raw and denoised PNGs)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -35,6 +35,7 @@ struct Args {
     seconds: f64,
     only: Option<String>,
     mesh: Option<String>,
+    save: Option<std::path::PathBuf>,
 }
 
 fn parse_args() -> Args {
@@ -43,6 +44,7 @@ fn parse_args() -> Args {
         seconds: 120.0,
         only: None,
         mesh: None,
+        save: None,
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -59,6 +61,7 @@ fn parse_args() -> Args {
             "--seconds" => args.seconds = value().parse().expect("--seconds T"),
             "--only" => args.only = Some(value()),
             "--mesh" => args.mesh = Some(value()),
+            "--save" => args.save = Some(value().into()),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -178,6 +181,18 @@ fn main() {
             denoise(&b.film, &b.guides, &DenoiseOptions::default()),
         );
         let denoise_seconds = start.elapsed().as_secs_f64() / 2.0;
+        if let Some(dir) = &args.save {
+            std::fs::create_dir_all(dir).expect("the --save directory");
+            let name = if signature == "*" {
+                "star".to_string()
+            } else {
+                signature.replace('*', "star")
+            };
+            for (film, tag) in [(&a.film, "raw"), (&da, "denoised"), (&db, "denoised-2")] {
+                film.write(&dir.join(format!("{name}-{tag}.png")), exposure)
+                    .expect("the image is written");
+            }
+        }
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);
         let paths = f64::from(a.samples) * f64::from(args.size).powi(2) / a.elapsed.as_secs_f64();

@@ -645,7 +645,10 @@ impl Integrator {
                 let carried = *beta * luminance(march.throughput);
                 if carried < ROULETTE_LEVEL {
                     let survive = carried / ROULETTE_LEVEL;
-                    if survive.is_nan() || survive <= 0.0 || sampler.next_f64() >= survive {
+                    if survive.is_nan()
+                        || survive <= 0.0
+                        || sampler.next_independent_f64() >= survive
+                    {
                         return march;
                     }
                     march.throughput = scale(march.throughput, 1.0 / survive);
@@ -907,6 +910,8 @@ impl Integrator {
             if depth == self.settings.max_depth {
                 break;
             }
+            // Every bounce draws its decisions from its own dimensions of a stratified sampler.
+            sampler.start_bounce(depth);
             depth += 1;
             if self.settings.nee && !bsdf.is_delta() {
                 let direct = self.direct(sampler, x, h, &frame, &shading, wo, &bsdf);

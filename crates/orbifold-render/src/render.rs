@@ -137,7 +137,7 @@ pub fn render(
                 (0..width)
                     .map(|i| {
                         let pixel = u64::from(j) * u64::from(width) + u64::from(i);
-                        let mut sampler = Sampler::new(options.seed, pixel, u64::from(pass));
+                        let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(pass));
                         let offset = sampler.next_2d();
                         let ray = camera.ray(i, j, width, height, offset);
                         integrator.sample(&ray, &mut sampler)

@@ -1,7 +1,11 @@
 //! Random numbers and sampling helpers for the path tracer.
 //!
 //! - [`Sampler`]: a deterministic random stream per (seed, pixel, sample), so that an image
-//!   depends only on the seed, never on how the work was scheduled across threads.
+//!   depends only on the seed, never on how the work was scheduled across threads. Camera
+//!   paths use its stratified form ([`Sampler::stratified`]): an Owen-scrambled Sobol sequence
+//!   per pixel (Burley 2020, the `sobol_burley` crate) for the dimensions that matter most — the
+//!   pixel position and, at each bounce, the light choice, the point on the light and the
+//!   scattering direction — so that the samples of a pixel cover those domains evenly.
 //! - Warping functions from the unit square to directions and points, each with its density:
 //!   [`cosine_hemisphere`], [`uniform_sphere`], [`uniform_cone`], [`uniform_disk_concentric`].
 //! - [`power_heuristic`], the multiple-importance-sampling weight (β = 2).
@@ -44,7 +48,29 @@ fn splitmix64(x: u64) -> u64 {
 #[derive(Clone, Debug)]
 pub struct Sampler {
     rng: Pcg64Mcg,
+    sobol: Option<Sobol>,
 }
+
+/// Where a stratified sampler is in its pixel's Sobol sequence.
+#[derive(Clone, Copy, Debug)]
+struct Sobol {
+    /// The sample's index in the sequence (< 2¹⁶).
+    index: u32,
+    /// The pixel's scramble.
+    seed: u32,
+    /// The next dimension to hand out.
+    dimension: u32,
+}
+
+/// Dimensions of the Sobol sequence taken by the camera ray (the position in the pixel).
+pub const CAMERA_DIMENSIONS: u32 = 2;
+/// Dimensions of the Sobol sequence set aside for each bounce of a path (light choice, point on
+/// the light, scattering direction and lobe, Russian roulette).
+pub const BOUNCE_DIMENSIONS: u32 = 8;
+/// Samples of a pixel beyond this index are independent random numbers (the Sobol tables end).
+const SOBOL_SAMPLES: u64 = 1 << 16;
+/// The spacing of the f32 values of the Sobol sequence; each is jittered within it.
+const SOBOL_STEP: f64 = 1.0 / (1u64 << 23) as f64;
 
 impl Sampler {
     /// The stream for sample `sample_index` of pixel `pixel_index` under `seed`.
@@ -63,7 +89,57 @@ impl Sampler {
         // `Pcg64Mcg::new` forces the state odd, as a multiplicative generator needs.
         Sampler {
             rng: Pcg64Mcg::new((u128::from(hi) << 64) | u128::from(lo)),
+            sobol: None,
         }
+    }
+
+    /// The stream for sample `sample_index` of pixel `pixel_index` under `seed`, stratified:
+    /// the first [`CAMERA_DIMENSIONS`] numbers, and [`BOUNCE_DIMENSIONS`] per bounce after
+    /// [`Sampler::start_bounce`], come from the pixel's Owen-scrambled Sobol sequence (jittered
+    /// below its f32 resolution by the random stream), so that the first N samples of a pixel
+    /// are spread evenly over those dimensions whatever N. Beyond 2¹⁶ samples, or 256
+    /// dimensions, the numbers are independent random ones.
+    ///
+    /// ```
+    /// use orbifold_render::sampler::Sampler;
+    ///
+    /// // The first 16 samples of a pixel put one camera offset in each of 4×4 strata.
+    /// let mut strata = [false; 16];
+    /// for k in 0..16 {
+    ///     let (x, y) = Sampler::stratified(5, 77, k).next_2d();
+    ///     strata[(4.0 * y) as usize * 4 + (4.0 * x) as usize] = true;
+    /// }
+    /// assert!(strata.iter().all(|&s| s));
+    /// ```
+    pub fn stratified(seed: u64, pixel_index: u64, sample_index: u64) -> Sampler {
+        let mut sampler = Sampler::new(seed, pixel_index, sample_index);
+        if sample_index < SOBOL_SAMPLES {
+            let scramble = splitmix64(splitmix64(seed ^ 0x5851_F42D_4C95_7F2D) ^ pixel_index);
+            sampler.sobol = Some(Sobol {
+                index: sample_index as u32,
+                seed: (scramble >> 32) as u32,
+                dimension: 0,
+            });
+        }
+        sampler
+    }
+
+    /// Moves a stratified sampler to the dimensions of bounce `bounce` (0 for the first surface
+    /// a camera path scatters at), so that every sample draws the same dimension for the same
+    /// decision however many numbers its earlier bounces used. No effect on a random sampler.
+    pub fn start_bounce(&mut self, bounce: u32) {
+        if let Some(sobol) = &mut self.sobol {
+            sobol.dimension =
+                CAMERA_DIMENSIONS.saturating_add(bounce.saturating_mul(BOUNCE_DIMENSIONS));
+        }
+    }
+
+    /// A uniform number in [0, 1) from the random stream alone, never stratified: for decisions
+    /// taken a varying number of times (Russian roulette along mirror chains), which would
+    /// otherwise shift the dimensions of the decisions after them.
+    pub fn next_independent_f64(&mut self) -> f64 {
+        const SCALE: f64 = 1.0 / (1u64 << 53) as f64;
+        (self.next_u64() >> 11) as f64 * SCALE
     }
 
     /// The next 64 uniformly random bits.
@@ -87,8 +163,16 @@ impl Sampler {
     /// assert!((0..1000).all(|_| (0.0..1.0).contains(&s.next_f64())));
     /// ```
     pub fn next_f64(&mut self) -> f64 {
-        const SCALE: f64 = 1.0 / (1u64 << 53) as f64;
-        (self.next_u64() >> 11) as f64 * SCALE
+        if let Some(sobol) = &mut self.sobol
+            && sobol.dimension < sobol_burley::NUM_DIMENSIONS
+        {
+            let (index, dimension, seed) = (sobol.index, sobol.dimension, sobol.seed);
+            sobol.dimension += 1;
+            let value = f64::from(sobol_burley::sample(index, dimension, seed));
+            let jitter = self.next_independent_f64() * SOBOL_STEP;
+            return (value + jitter).min(1.0 - f64::EPSILON / 2.0);
+        }
+        self.next_independent_f64()
     }
 
     /// Two uniforms in [0, 1), drawn in order (first, second).
