@@ -162,9 +162,13 @@ pub struct ImageArgs {
     /// Image size (default: the scene's `[render]` size).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Samples per pixel (default: the scene's).
+    /// Samples per pixel (default: the scene's); on average over the image, since adaptive
+    /// sampling gives more to the pixels that are noisiest on screen.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
+    /// The same number of samples for every pixel (no adaptive sampling).
+    #[arg(long)]
+    pub no_adaptive: bool,
     /// Stop an image (each frame of an animation) after this many seconds, at the end of the
     /// pass under way, and keep what there is.
     #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]

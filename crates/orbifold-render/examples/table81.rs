@@ -1,7 +1,8 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
-//! [--only SIG] [--mesh FILE] [--save DIR]` (`--save` writes the raw and denoised PNGs)
+//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform]` (`--save` writes the raw and denoised PNGs; `--uniform`: no
+//! adaptive sampling)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -36,6 +37,7 @@ struct Args {
     only: Option<String>,
     mesh: Option<String>,
     save: Option<std::path::PathBuf>,
+    uniform: bool,
 }
 
 fn parse_args() -> Args {
@@ -45,6 +47,7 @@ fn parse_args() -> Args {
         only: None,
         mesh: None,
         save: None,
+        uniform: false,
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -62,6 +65,7 @@ fn parse_args() -> Args {
             "--only" => args.only = Some(value()),
             "--mesh" => args.mesh = Some(value()),
             "--save" => args.save = Some(value().into()),
+            "--uniform" => args.uniform = true,
             other => panic!("unknown argument {other}"),
         }
     }
@@ -164,6 +168,7 @@ fn main() {
                 seed,
                 time_limit: Some(Duration::from_secs_f64(args.seconds)),
                 noise_target: None,
+                adaptive: !args.uniform,
             };
             render(
                 &integrator,
@@ -195,11 +200,11 @@ fn main() {
         }
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);
-        let paths = f64::from(a.samples) * f64::from(args.size).powi(2) / a.elapsed.as_secs_f64();
+        let paths = a.paths as f64 / a.elapsed.as_secs_f64();
         println!(
-            "| `{signature}` | {:?} | {} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1} | {:.2} | {:.3} |",
+            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1} | {:.2} | {:.3} |",
             integrator.space().geometry(),
-            a.samples,
+            a.paths as f64 / f64::from(args.size).powi(2),
             a.film.relative_noise(),
             raw.0,
             raw.1,

@@ -9,7 +9,10 @@
 //! neighbour by how alike the two pixels' normals, depths and albedos are, and by how far its
 //! lighting is from the pixel's in units of the standard error around it (the variance blurred
 //! over 3×3 pixels) — so that edges, mirror-image boundaries and well-converged detail survive
-//! while noise is averaged away.
+//! while noise is averaged away. A pixel whose paths disagree on what they saw (its mean
+//! normal is short, its depths spread: sub-pixel detail such as the crowd of far mirror images
+//! at a hyperbolic room's horizon) trusts its guides only as much as its paths agree — its
+//! guides are noise too — and is smoothed by its lighting tolerance.
 //!
 //! Denoising trades noise for bias (blur where the guides cannot tell surfaces apart); the
 //! renderer's tests check its estimates before any filtering.
@@ -29,6 +32,7 @@ pub struct Guides {
     albedo: Vec<Rgb>,
     normal: Vec<DVec3>,
     depth: Vec<f64>,
+    depth2: Vec<f64>,
     count: Vec<u32>,
 }
 
@@ -51,6 +55,7 @@ impl Guides {
             albedo: vec![[0.0; 3]; n],
             normal: vec![DVec3::ZERO; n],
             depth: vec![0.0; n],
+            depth2: vec![0.0; n],
             count: vec![0; n],
         }
     }
@@ -77,6 +82,7 @@ impl Guides {
         }
         self.normal[i] += first.normal;
         self.depth[i] += first.depth;
+        self.depth2[i] += first.depth * first.depth;
         self.count[i] += 1;
     }
 
@@ -98,7 +104,24 @@ impl Guides {
     fn mean_depth(&self, i: usize) -> f64 {
         self.depth[i] / f64::from(self.count[i].max(1))
     }
+
+    /// How much the paths through pixel `i` agree on what they saw first, in [0, 1]: the length
+    /// of their mean normal times a falloff with the spread of their depths (1: one surface; near
+    /// 0: the pixel covers many things smaller than itself, such as far mirror images).
+    fn coherence(&self, i: usize) -> f64 {
+        let n = f64::from(self.count[i]);
+        if n < 2.0 {
+            return 1.0;
+        }
+        let mean = self.depth[i] / n;
+        let spread = (self.depth2[i] / n - mean * mean).max(0.0).sqrt();
+        let normals = (self.normal[i].length() / n).min(1.0);
+        normals / (1.0 + COHERENCE_DEPTH * spread / mean.max(1e-9))
+    }
 }
+
+/// How strongly a pixel's relative depth spread lowers its coherence.
+const COHERENCE_DEPTH: f64 = 4.0;
 
 /// How strongly each guide stops the filter.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -171,6 +194,7 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
         .collect();
     let normal: Vec<DVec3> = (0..n).map(|i| guides.mean_normal(i)).collect();
     let depth: Vec<f64> = (0..n).map(|i| guides.mean_depth(i)).collect();
+    let coherence: Vec<f64> = (0..n).map(|i| guides.coherence(i)).collect();
     // Lighting (the image over the albedo) and the variance of its luminance.
     let mut lighting: Vec<Rgb> = Vec::with_capacity(n);
     let mut variance: Vec<f64> = Vec::with_capacity(n);
@@ -195,6 +219,7 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
         albedo: &albedo,
         normal: &normal,
         depth: &depth,
+        coherence: &coherence,
         options,
     };
     for pass in 0..options.passes {
@@ -229,6 +254,7 @@ struct Guide<'a> {
     albedo: &'a [Rgb],
     normal: &'a [DVec3],
     depth: &'a [f64],
+    coherence: &'a [f64],
     options: &'a DenoiseOptions,
 }
 
@@ -275,6 +301,10 @@ impl Guide<'_> {
         // The lighting tolerance: a few standard errors (an infinite variance — nothing
         // sampled around — accepts everything).
         let tolerance = o.sigma_lighting * variance_around.sqrt() + 1e-6;
+        // A pixel whose paths saw many different things (sub-pixel detail: the crowd of far
+        // mirror images at a hyperbolic room's horizon) has guides that are themselves noise:
+        // it listens to them only as much as its paths agree, and to its lighting tolerance.
+        let trust = self.coherence[i];
         let (mut sum, mut weights, mut var) = ([0.0; 3], 0.0, 0.0);
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y + (dy as isize - 2) * step as isize;
@@ -293,15 +323,16 @@ impl Guide<'_> {
                     let normal = self.normal[i]
                         .dot(self.normal[j])
                         .max(0.0)
-                        .powf(o.sigma_normal);
+                        .powf(o.sigma_normal * trust);
                     let (zi, zj) = (self.depth[i], self.depth[j]);
                     let depth = (-(zi - zj).abs()
-                        / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9))
+                        / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9)
+                        * trust)
                         .exp();
                     let da: f64 = (0..3)
                         .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
                         .sum();
-                    let albedo = (-da / (o.sigma_albedo * o.sigma_albedo)).exp();
+                    let albedo = (-da / (o.sigma_albedo * o.sigma_albedo) * trust).exp();
                     let light = (-(centre_l - luminance(lighting[j])).abs() / tolerance).exp();
                     kx * ky * normal * depth * albedo * light
                 };

@@ -358,6 +358,38 @@ impl Film {
         }
     }
 
+    /// The standard error of every pixel as seen on screen, in 8-bit display levels at
+    /// `exposure`: how far one standard error of its luminance moves the tone-mapped value
+    /// (the larger of the steps up and down; 0 where the tone curve has saturated), row by row.
+    /// Infinite for pixels with fewer than two samples.
+    ///
+    /// ```
+    /// use orbifold_render::film::Film;
+    ///
+    /// let mut film = Film::new(2, 1);
+    /// for v in [0.1, 0.3, 0.1, 0.3] {
+    ///     film.add(0, 0, [v; 3]);
+    ///     film.add(1, 0, [1e3 * v; 3]);
+    /// }
+    /// let levels = film.display_errors(0.0);
+    /// assert!(levels[0] > 5.0 && levels[1] == 0.0);
+    /// ```
+    pub fn display_errors(&self, exposure: f64) -> Vec<f64> {
+        (0..self.count.len())
+            .map(|i| {
+                let se = self.standard_error_at(i);
+                if !se.is_finite() {
+                    return f64::INFINITY;
+                }
+                let l = luminance(self.mean_at(i)).max(0.0);
+                let at = tone_curve(l, exposure);
+                let up = tone_curve(l + se, exposure) - at;
+                let down = at - tone_curve((l - se).max(0.0), exposure);
+                255.0 * up.max(down)
+            })
+            .collect()
+    }
+
     /// A summary of the noise of the image: the mean over all pixels of
     ///
     /// SE(x, y) / (max(L(x, y), 0) + 0.01),
@@ -605,6 +637,24 @@ fn srgb_oetf(v: f64) -> f64 {
     }
 }
 
+/// The tone curve of [`tone_map`] for one channel, before rounding: linear radiance `x` at
+/// `exposure` stops to the encoded display value in [0, 1].
+///
+/// ```
+/// use orbifold_render::film::{tone_curve, tone_map};
+///
+/// let x = 0.3;
+/// assert_eq!((tone_curve(x, 0.5) * 255.0).round() as u8, tone_map([x; 3], 0.5)[0]);
+/// ```
+pub fn tone_curve(x: f64, exposure: f64) -> f64 {
+    let x = (x * exposure.exp2()).max(0.0);
+    if x.is_infinite() {
+        1.0
+    } else {
+        srgb_oetf(aces_narkowicz(x))
+    }
+}
+
 /// Tone-maps linear radiance to 8-bit sRGB: each channel is multiplied by 2^`exposure`
 /// (`exposure` in stops), mapped by the ACES filmic fit of Narkowicz (2015),
 /// x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14) clamped to [0, 1] (applied per channel, without
@@ -621,15 +671,6 @@ fn srgb_oetf(v: f64) -> f64 {
 /// assert!(brighter > r);
 /// ```
 pub fn tone_map(rgb: [f64; 3], exposure: f64) -> [u8; 3] {
-    let scale = exposure.exp2();
-    rgb.map(|c| {
-        // `f64::max` maps NaN to 0 too.
-        let x = (c * scale).max(0.0);
-        let v = if x.is_infinite() {
-            1.0
-        } else {
-            srgb_oetf(aces_narkowicz(x))
-        };
-        (v * 255.0).round().clamp(0.0, 255.0) as u8
-    })
+    // `f64::max` in `tone_curve` maps NaN to 0 too.
+    rgb.map(|c| (tone_curve(c, exposure) * 255.0).round().clamp(0.0, 255.0) as u8)
 }

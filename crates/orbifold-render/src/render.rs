@@ -1,9 +1,17 @@
-//! The render loop: progressive passes of one sample per pixel over the whole image, in parallel
-//! rows, into an HDR [`Film`]; stops after the wanted samples, at a time limit, or when asked to.
+//! The render loop: progressive rounds of one sample per pixel, in parallel, into an HDR
+//! [`Film`]; stops after the wanted samples, at a time limit, or when asked to.
 //!
-//! Every sample's random numbers depend only on (seed, pixel, sample index), and the passes are
-//! added to the film in pixel order, so an image is the same for a given seed whatever the
-//! number of threads.
+//! **Adaptive sampling** (on by default): after [`WARMUP_ROUNDS`] rounds over the whole image,
+//! most rounds sample only the pixels whose noise on screen matters most — those whose
+//! squared display error over their sample count ([`Film::display_errors`]; the largest in
+//! their 3×3 neighbourhood, so that a pixel whose few samples happened to agree is not left
+//! out) is at least the image's mean — and every [`FULL_ROUND_EVERY`]th round is again over
+//! the whole image. Far mirror images crowd into a few pixels (the horizon of a hyperbolic
+//! room holds thousands of copies of the room); they get the samples, while smooth walls do not.
+//!
+//! Every sample's random numbers depend only on (seed, pixel, the pixel's sample index), and
+//! each round is added to the film in pixel order, so an image is the same for a given seed
+//! whatever the number of threads.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -32,13 +40,21 @@ pub struct RenderOptions {
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
     /// Stop once the film's relative noise ([`Film::relative_noise`]) is at most this (checked
-    /// after every pass from the second on).
+    /// after every round from the second on).
     pub noise_target: Option<f64>,
+    /// Spend the samples where the image is noisiest (see the module documentation); without
+    /// it, every pixel gets exactly `samples` samples.
+    pub adaptive: bool,
 }
 
+/// Rounds over the whole image before adaptive sampling starts.
+pub const WARMUP_ROUNDS: u32 = 4;
+/// With adaptive sampling, every this many rounds one is over the whole image.
+pub const FULL_ROUND_EVERY: u32 = 8;
+
 impl RenderOptions {
-    /// `samples` passes over a `width` × `height` image with `seed`, without a time limit or
-    /// a noise target.
+    /// `samples` samples per pixel (on average: adaptive sampling is on) over a `width` ×
+    /// `height` image with `seed`, without a time limit or a noise target.
     ///
     /// ```
     /// use orbifold_render::render::RenderOptions;
@@ -54,6 +70,7 @@ impl RenderOptions {
             seed,
             time_limit: None,
             noise_target: None,
+            adaptive: true,
         }
     }
 }
@@ -63,8 +80,10 @@ impl RenderOptions {
 pub struct Rendered {
     /// The image.
     pub film: Film,
-    /// Samples per pixel taken.
+    /// Samples per pixel taken (the mean, rounded down, with adaptive sampling).
     pub samples: u32,
+    /// Samples taken in all (camera paths traced).
+    pub paths: u64,
     /// Wall-clock time.
     pub elapsed: Duration,
     /// Whether it stopped before taking every sample (time limit, noise target or cancellation).
@@ -126,35 +145,53 @@ pub fn render(
 ) -> Rendered {
     let start = Instant::now();
     let (width, height) = (options.width, options.height);
+    let pixels = u64::from(width) * u64::from(height);
     let mut film = Film::new(width, height);
     let mut guides = Guides::new(width, height);
-    let mut done = 0;
-    while done < options.samples {
-        let pass = done;
-        let rows: Vec<Vec<PathSample>> = (0..height)
-            .into_par_iter()
-            .map(|j| {
-                (0..width)
-                    .map(|i| {
-                        let pixel = u64::from(j) * u64::from(width) + u64::from(i);
-                        let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(pass));
-                        let offset = sampler.next_2d();
-                        let ray = camera.ray(i, j, width, height, offset);
-                        integrator.sample(&ray, &mut sampler)
-                    })
-                    .collect()
-            })
-            .collect();
-        for (j, row) in rows.iter().enumerate() {
-            for (i, value) in row.iter().enumerate() {
-                film.add(i as u32, j as u32, value.radiance);
-                guides.add(i as u32, j as u32, &value.first);
-            }
+    // Samples taken per pixel: the index of its next sample in its stratified sequence.
+    let mut taken = vec![0u32; pixels as usize];
+    let budget = u64::from(options.samples) * pixels;
+    let mut total = 0u64;
+    let mut round = 0u32;
+    while total < budget && pixels > 0 {
+        let chosen = if options.adaptive
+            && round >= WARMUP_ROUNDS
+            && !round.is_multiple_of(FULL_ROUND_EVERY)
+        {
+            noisiest(&film, &taken)
+        } else {
+            None
+        };
+        let trace = |pixel: u64| {
+            let (i, j) = (
+                (pixel % u64::from(width)) as u32,
+                (pixel / u64::from(width)) as u32,
+            );
+            let index = u64::from(taken[pixel as usize]);
+            let mut sampler = Sampler::stratified(options.seed, pixel, index);
+            let offset = sampler.next_2d();
+            let ray = camera.ray(i, j, width, height, offset);
+            integrator.sample(&ray, &mut sampler)
+        };
+        let results: Vec<(u64, PathSample)> = match &chosen {
+            Some(list) => list.par_iter().map(|&p| (p, trace(p))).collect(),
+            None => (0..pixels).into_par_iter().map(|p| (p, trace(p))).collect(),
+        };
+        for (pixel, value) in &results {
+            let (i, j) = (
+                (pixel % u64::from(width)) as u32,
+                (pixel / u64::from(width)) as u32,
+            );
+            film.add(i, j, value.radiance);
+            guides.add(i, j, &value.first);
+            taken[*pixel as usize] += 1;
         }
-        done += 1;
-        progress(done, options.samples);
+        total += results.len() as u64;
+        round += 1;
+        let done = (total / pixels) as u32;
+        progress(done.min(options.samples), options.samples);
         let out_of_time = options.time_limit.is_some_and(|t| start.elapsed() >= t);
-        let quiet = done >= 2
+        let quiet = round >= 2
             && options
                 .noise_target
                 .is_some_and(|t| film.relative_noise() <= t);
@@ -162,11 +199,49 @@ pub fn render(
             break;
         }
     }
+    let done = total.checked_div(pixels).unwrap_or(0) as u32;
     Rendered {
         film,
         samples: done,
+        paths: total,
         elapsed: start.elapsed(),
-        stopped_early: done < options.samples,
+        stopped_early: total < budget,
         guides,
     }
+}
+
+/// The pixels that an adaptive round samples, in order: those whose squared display error per
+/// sample, the largest in their 3×3 neighbourhood, is at least the mean over the image. `None`
+/// (a round over the whole image) when that picks every pixel or none.
+fn noisiest(film: &Film, taken: &[u32]) -> Option<Vec<u64>> {
+    let (width, height) = (film.width() as usize, film.height() as usize);
+    let errors = film.display_errors(film.auto_exposure());
+    let score: Vec<f64> = errors
+        .iter()
+        .zip(taken)
+        .map(|(e, &n)| e * e / f64::from(n.max(1)))
+        .collect();
+    if score.iter().any(|s| !s.is_finite()) {
+        return None;
+    }
+    let spread: Vec<f64> = (0..height)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let score = &score;
+            (0..width).map(move |x| {
+                let mut most = 0.0f64;
+                for yy in y.saturating_sub(1)..(y + 2).min(height) {
+                    for xx in x.saturating_sub(1)..(x + 2).min(width) {
+                        most = most.max(score[yy * width + xx]);
+                    }
+                }
+                most
+            })
+        })
+        .collect();
+    let mean = spread.iter().sum::<f64>() / spread.len() as f64;
+    let chosen: Vec<u64> = (0..spread.len() as u64)
+        .filter(|&p| spread[p as usize] >= mean && spread[p as usize] > 0.0)
+        .collect();
+    (!chosen.is_empty() && chosen.len() < spread.len()).then_some(chosen)
 }

@@ -147,3 +147,50 @@ fn unsampled_pixels_black_surfaces_and_nothing_seen_stay_finite() {
         }
     }
 }
+
+#[test]
+fn pixels_whose_paths_saw_many_things_are_smoothed_by_their_lighting_alone() {
+    // Every path of every pixel sees one of many tiny, differently oriented surfaces at
+    // different depths (the crowd of far mirror images at a horizon): each pixel's mean normal
+    // and depth are noise, and must not stop the filter. The lighting is 0.3 ± 0.2. (Guides
+    // trusted as if coherent take the noise only from 0.073 to 0.064 here; as they are, to 0.036.)
+    let (w, h) = (24u32, 24u32);
+    let mut film = Film::new(w, h);
+    let mut guides = Guides::new(w, h);
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for y in 0..h {
+        for x in 0..w {
+            for _ in 0..8 {
+                let noise = if next() < 0.5 { 0.2 } else { -0.2 };
+                film.add(x, y, [0.3 + noise; 3]);
+                let angle = std::f64::consts::TAU * next();
+                let first = FirstHit {
+                    albedo: [0.8; 3],
+                    normal: DVec3::new(angle.cos(), angle.sin(), 0.3).normalize(),
+                    depth: 5.0 + 10.0 * next(),
+                };
+                guides.add(x, y, &first);
+            }
+        }
+    }
+    let clean = denoise(&film, &guides, &DenoiseOptions::default());
+    let rms = |f: &Film| {
+        let sum: f64 = (4..h - 4)
+            .flat_map(|y| (4..w - 4).map(move |x| (x, y)))
+            .map(|(x, y)| (f.pixel(x, y)[1] - 0.3).powi(2))
+            .sum();
+        (sum / f64::from((w - 8) * (h - 8))).sqrt()
+    };
+    assert!(
+        rms(&clean) < 0.6 * rms(&film),
+        "noise {:.4} before denoising, {:.4} after",
+        rms(&film),
+        rms(&clean)
+    );
+}

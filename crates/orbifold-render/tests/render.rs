@@ -132,18 +132,19 @@ fn a_seed_gives_the_same_image_whatever_the_threads() {
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| image(&scene, true, 4, 9));
+        .install(|| image(&scene, true, 12, 9));
+    // (12 samples: adaptive rounds, which choose pixels from the film so far, are included.)
     let two = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
         .unwrap()
-        .install(|| image(&scene, true, 4, 9));
+        .install(|| image(&scene, true, 12, 9));
     for y in 0..one.height() {
         for x in 0..one.width() {
             assert_eq!(one.pixel(x, y), two.pixel(x, y));
         }
     }
-    let other = image(&scene, true, 4, 10);
+    let other = image(&scene, true, 12, 10);
     assert!((0..6).any(|y| (0..8).any(|x| other.pixel(x, y) != one.pixel(x, y))));
 }
 
@@ -210,4 +211,47 @@ fn the_spread_is_the_area_density_of_geodesic_spheres() {
             );
         }
     }
+}
+
+#[test]
+fn adaptive_sampling_spends_the_samples_where_the_screen_is_noisy() {
+    let scene = scene("*2222", LightKind::Sphere);
+    let settings = Settings {
+        max_depth: 3,
+        ..Settings::default()
+    };
+    let (w, h, spp) = (32u32, 24u32, 24u32);
+    let pixels = u64::from(w * h);
+    let run = |adaptive: bool| {
+        let options = RenderOptions {
+            adaptive,
+            ..RenderOptions::new(w, h, spp, 4)
+        };
+        render_scene(&scene, None, settings, &options).unwrap()
+    };
+    let (uniform, adaptive) = (run(false), run(true));
+    // Without it every pixel gets the same count; with it, the same budget in all.
+    assert_eq!(uniform.paths, u64::from(spp) * pixels);
+    assert!((0..h).all(|y| (0..w).all(|x| uniform.film.samples(x, y) == u64::from(spp))));
+    assert!(adaptive.paths >= u64::from(spp) * pixels);
+    assert!(adaptive.paths < u64::from(spp + 1) * pixels);
+    assert_eq!(adaptive.samples, spp);
+    // The quarter of the pixels that got the most samples is the noisiest on screen (as the
+    // uniform render measures it).
+    let errors = uniform.film.display_errors(uniform.film.auto_exposure());
+    let mut by_count: Vec<(u64, f64)> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| (adaptive.film.samples(x, y), errors[(y * w + x) as usize]))
+        .collect();
+    by_count.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let quarter = by_count.len() / 4;
+    let mean = |s: &[(u64, f64)]| s.iter().map(|p| p.1).sum::<f64>() / s.len() as f64;
+    let (fewest, most) = (&by_count[..quarter], &by_count[by_count.len() - quarter..]);
+    assert!(most[0].0 > fewest[quarter - 1].0, "the counts differ");
+    assert!(
+        mean(most) > 2.0 * mean(fewest),
+        "display error of the most sampled {:.2}, of the least {:.2}",
+        mean(most),
+        mean(fewest)
+    );
 }

@@ -99,6 +99,7 @@ pub(crate) fn settings_and_options(args: &ImageArgs, scene: &Scene) -> (Settings
         seed: args.seed,
         time_limit: args.time_limit.map(Duration::from_secs_f64),
         noise_target: args.noise_target,
+        adaptive: !args.no_adaptive,
     };
     (settings, options)
 }
