@@ -104,8 +104,9 @@ fn scene(signature: &str, mesh: Option<&str>) -> Scene {
     scene
 }
 
-/// RMS and median over pixels of |A − B|/√2 in 8-bit levels (mean of the channels per pixel).
-fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64) {
+/// RMS, median and 99th percentile over pixels of |A − B|/√2 in 8-bit levels (mean of the
+/// channels per pixel).
+fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
     let mut per_pixel = Vec::new();
     let mut sum = 0.0;
     for y in 0..a.height() {
@@ -124,10 +125,10 @@ fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64) {
     }
     per_pixel.sort_by(f64::total_cmp);
     let rms = (sum / per_pixel.len() as f64).sqrt() / std::f64::consts::SQRT_2;
-    (
-        rms,
-        per_pixel[per_pixel.len() / 2] / std::f64::consts::SQRT_2,
-    )
+    let quantile = |q: f64| {
+        per_pixel[((per_pixel.len() - 1) as f64 * q) as usize] / std::f64::consts::SQRT_2
+    };
+    (rms, quantile(0.5), quantile(0.99))
 }
 
 fn main() {
@@ -142,7 +143,7 @@ fn main() {
     );
     println!();
     println!(
-        "| room | geometry | spp | relative noise | display noise raw: RMS, median | denoised: RMS, median | denoise s | M paths/s |"
+        "| room | geometry | mean spp | relative noise | display noise raw: RMS, median | denoised: RMS, median, 99th percentile | denoise s | M paths/s |"
     );
     println!("|---|---|---:|---:|---:|---:|---:|---:|");
     for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {
@@ -202,7 +203,7 @@ fn main() {
         let clean = display_noise(&da, &db, exposure);
         let paths = a.paths as f64 / a.elapsed.as_secs_f64();
         println!(
-            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1} | {:.2} | {:.3} |",
+            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1}, {:.1} | {:.2} | {:.3} |",
             integrator.space().geometry(),
             a.paths as f64 / f64::from(args.size).powi(2),
             a.film.relative_noise(),
@@ -210,6 +211,7 @@ fn main() {
             raw.1,
             clean.0,
             clean.1,
+            clean.2,
             denoise_seconds,
             paths / 1e6
         );
