@@ -125,9 +125,8 @@ fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
     }
     per_pixel.sort_by(f64::total_cmp);
     let rms = (sum / per_pixel.len() as f64).sqrt() / std::f64::consts::SQRT_2;
-    let quantile = |q: f64| {
-        per_pixel[((per_pixel.len() - 1) as f64 * q) as usize] / std::f64::consts::SQRT_2
-    };
+    let quantile =
+        |q: f64| per_pixel[((per_pixel.len() - 1) as f64 * q) as usize] / std::f64::consts::SQRT_2;
     (rms, quantile(0.5), quantile(0.99))
 }
 

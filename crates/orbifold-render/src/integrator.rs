@@ -572,8 +572,8 @@ impl Integrator {
             .ok()
     }
 
-    /// The nearest room surface, object or area light along a ray.
-    fn nearest(&self, ray: &Ray) -> Option<Near> {
+    /// The nearest room surface, object or area light along a ray, leaving out light `skip`.
+    fn nearest(&self, ray: &Ray, skip: Option<usize>) -> Option<Near> {
         let space = self.space();
         let hit = self.tracer.nearest(ray);
         let mut best = hit.map(|h| Near {
@@ -583,6 +583,9 @@ impl Integrator {
             height: h.height,
         });
         for (l, light) in self.lights.iter().enumerate() {
+            if skip == Some(l) {
+                continue;
+            }
             if let Emitter::Area { instance, .. } = &light.emitter {
                 let limit = best.map_or(f64::INFINITY, |b| b.s);
                 if let Some(t) = instance.intersect(space, ray, 0.0, limit) {
@@ -599,13 +602,19 @@ impl Integrator {
         best
     }
 
-    /// Follows a ray through mirrors for at most `length`.
+    /// Follows a ray through mirrors for at most `length`, not meeting light `skip`.
     ///
     /// With `roulette` (a sampler and the luminance of the path's throughput so far), a path
     /// whose throughput falls below `ROULETTE_LEVEL` after a mirror goes on with probability
     /// ∝ its throughput and is weighted up when it does (Russian roulette: unbiased, and long
     /// chains of dim reflections stop early).
-    fn march(&self, ray: &Ray, length: f64, mut roulette: Option<(&mut Sampler, f64)>) -> March {
+    fn march(
+        &self,
+        ray: &Ray,
+        length: f64,
+        skip: Option<usize>,
+        mut roulette: Option<(&mut Sampler, f64)>,
+    ) -> March {
         let space = self.space();
         let mut march = March {
             end: MarchEnd::Lost,
@@ -617,7 +626,7 @@ impl Integrator {
         };
         for _ in 0..=MAX_MIRROR_BOUNCES {
             let remaining = length - march.length;
-            let near = self.nearest(&march.ray);
+            let near = self.nearest(&march.ray, skip);
             let Some(near) = near.filter(|n| n.s < remaining) else {
                 if remaining.is_finite() {
                     march.end = MarchEnd::Reached;
@@ -766,7 +775,13 @@ impl Integrator {
             return [0.0; 3];
         }
         let start = link.ray.advanced(space, RAY_EPSILON);
-        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, None);
+        // A point on the side of a sphere light that faces x is reached without meeting the
+        // light first: its own mesh (hundreds of triangles) need not be tested.
+        let skip = point
+            .triangle
+            .is_some_and(|(t, _)| light.reaches_unobstructed(space, t, from))
+            .then_some(entry.light);
+        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, skip, None);
         if march.end != MarchEnd::Reached {
             return [0.0; 3];
         }
@@ -853,7 +868,8 @@ impl Integrator {
         let mut previous = (DVec3::ZERO, 0.0, 0.0);
         let mut depth = 0;
         loop {
-            let march = self.march(&ray, f64::INFINITY, Some((&mut *sampler, luminance(beta))));
+            let roulette = Some((&mut *sampler, luminance(beta)));
+            let march = self.march(&ray, f64::INFINITY, None, roulette);
             beta = mul(beta, march.throughput);
             let MarchEnd::Hit(near) = march.end else {
                 break;

@@ -706,6 +706,36 @@ impl Light {
         })
     }
 
+    /// Whether a geodesic from `from` (world coordinates in the light's own copy of the room, as
+    /// for [`Light::sample_point`]) to a point of triangle `triangle` cannot meet the light
+    /// itself before it: for a sphere light's triangle that faces `from` (a geodesic enters a
+    /// convex ball once, through the side that faces it). Shadow rays to such a point need not
+    /// test the light's own mesh. False for other lights and triangles.
+    pub fn reaches_unobstructed(
+        &self,
+        space: Space,
+        triangle: u32,
+        from: Option<(DVec3, f64)>,
+    ) -> bool {
+        let (
+            Emitter::Area {
+                instance,
+                facing: Some(facing),
+                ..
+            },
+            Some((x, h)),
+        ) = (&self.emitter, from)
+        else {
+            return false;
+        };
+        let i = triangle as usize;
+        facing
+            .local(space, (instance.to_object * x, h - instance.height))
+            .is_some_and(|b| {
+                i < facing.normals.len() && facing.normals[i].dot(b) > facing.offsets[i]
+            })
+    }
+
     /// The density per unit area with which [`Light::sample_point`] picks the point of triangle
     /// `triangle` at barycentrics `w` (area lights) for the lit point `from`.
     pub fn pdf_area(

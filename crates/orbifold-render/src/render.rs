@@ -144,24 +144,95 @@ pub fn render(
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Rendered {
     let start = Instant::now();
-    let (width, height) = (options.width, options.height);
-    let pixels = u64::from(width) * u64::from(height);
-    let mut film = Film::new(width, height);
-    let mut guides = Guides::new(width, height);
-    // Samples taken per pixel: the index of its next sample in its stratified sequence.
-    let mut taken = vec![0u32; pixels as usize];
-    let budget = u64::from(options.samples) * pixels;
-    let mut total = 0u64;
-    let mut round = 0u32;
-    while total < budget && pixels > 0 {
+    let mut progressive = Progressive::new(integrator, camera, options);
+    let budget = progressive.budget();
+    while progressive.paths() < budget {
+        progressive.round();
+        progress(progressive.samples().min(options.samples), options.samples);
+        let out_of_time = options.time_limit.is_some_and(|t| start.elapsed() >= t);
+        let quiet = progressive.rounds() >= 2
+            && options
+                .noise_target
+                .is_some_and(|t| progressive.film().relative_noise() <= t);
+        if cancel.load(Ordering::Relaxed) || out_of_time || quiet {
+            break;
+        }
+    }
+    progressive.finish(start.elapsed())
+}
+
+/// A render that goes on one round at a time, for callers that run their own loop (the
+/// studio shows the picture after every round). [`render`] is this loop with a time limit,
+/// a noise target and cancellation.
+///
+/// ```
+/// use orbifold_render::{camera::Camera, integrator::{Integrator, Settings}};
+/// use orbifold_render::render::{Progressive, RenderOptions};
+/// let scene = orbifold_scene::Scene::default();
+/// let integrator = Integrator::from_scene(&scene, None, Settings::default())?;
+/// let camera = Camera::new(integrator.space(), &scene.camera);
+/// let options = RenderOptions::new(8, 6, 2, 1);
+/// let mut progressive = Progressive::new(&integrator, &camera, &options);
+/// progressive.round();
+/// assert_eq!((progressive.samples(), progressive.film().samples(3, 2)), (1, 1));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Progressive<'a> {
+    integrator: &'a Integrator,
+    camera: &'a Camera,
+    options: RenderOptions,
+    film: Film,
+    guides: Guides,
+    /// Samples taken per pixel: the index of its next sample in its stratified sequence.
+    taken: Vec<u32>,
+    total: u64,
+    rounds: u32,
+}
+
+impl<'a> Progressive<'a> {
+    /// An empty image of `options`' size, to be rendered with `options`' seed and sampling.
+    pub fn new(
+        integrator: &'a Integrator,
+        camera: &'a Camera,
+        options: &RenderOptions,
+    ) -> Progressive<'a> {
+        let (width, height) = (options.width, options.height);
+        Progressive {
+            integrator,
+            camera,
+            options: *options,
+            film: Film::new(width, height),
+            guides: Guides::new(width, height),
+            taken: vec![0; width as usize * height as usize],
+            total: 0,
+            rounds: 0,
+        }
+    }
+
+    /// The samples `options.samples` asks for in all.
+    pub fn budget(&self) -> u64 {
+        u64::from(self.options.samples) * self.taken.len() as u64
+    }
+
+    /// One more round: one sample for every pixel, or with adaptive sampling after the first
+    /// rounds, for the noisiest ones (see the module documentation).
+    pub fn round(&mut self) {
+        let options = &self.options;
+        let (width, height) = (options.width, options.height);
+        let pixels = u64::from(width) * u64::from(height);
+        if pixels == 0 {
+            return;
+        }
         let chosen = if options.adaptive
-            && round >= WARMUP_ROUNDS
-            && !round.is_multiple_of(FULL_ROUND_EVERY)
+            && self.rounds >= WARMUP_ROUNDS
+            && !self.rounds.is_multiple_of(FULL_ROUND_EVERY)
         {
-            noisiest(&film, &taken)
+            noisiest(&self.film, &self.taken)
         } else {
             None
         };
+        let taken = &self.taken;
+        let (integrator, camera) = (self.integrator, self.camera);
         let trace = |pixel: u64| {
             let (i, j) = (
                 (pixel % u64::from(width)) as u32,
@@ -182,31 +253,50 @@ pub fn render(
                 (pixel % u64::from(width)) as u32,
                 (pixel / u64::from(width)) as u32,
             );
-            film.add(i, j, value.radiance);
-            guides.add(i, j, &value.first);
-            taken[*pixel as usize] += 1;
+            self.film.add(i, j, value.radiance);
+            self.guides.add(i, j, &value.first);
+            self.taken[*pixel as usize] += 1;
         }
-        total += results.len() as u64;
-        round += 1;
-        let done = (total / pixels) as u32;
-        progress(done.min(options.samples), options.samples);
-        let out_of_time = options.time_limit.is_some_and(|t| start.elapsed() >= t);
-        let quiet = round >= 2
-            && options
-                .noise_target
-                .is_some_and(|t| film.relative_noise() <= t);
-        if cancel.load(Ordering::Relaxed) || out_of_time || quiet {
-            break;
-        }
+        self.total += results.len() as u64;
+        self.rounds += 1;
     }
-    let done = total.checked_div(pixels).unwrap_or(0) as u32;
-    Rendered {
-        film,
-        samples: done,
-        paths: total,
-        elapsed: start.elapsed(),
-        stopped_early: total < budget,
-        guides,
+
+    /// Rounds done.
+    pub fn rounds(&self) -> u32 {
+        self.rounds
+    }
+
+    /// Samples taken in all.
+    pub fn paths(&self) -> u64 {
+        self.total
+    }
+
+    /// Samples per pixel so far (the mean, rounded down).
+    pub fn samples(&self) -> u32 {
+        self.total.checked_div(self.taken.len() as u64).unwrap_or(0) as u32
+    }
+
+    /// The image so far.
+    pub fn film(&self) -> &Film {
+        &self.film
+    }
+
+    /// What the pixels' paths saw first so far, for the denoiser.
+    pub fn guides(&self) -> &Guides {
+        &self.guides
+    }
+
+    /// The result, after `elapsed` of rendering.
+    pub fn finish(self, elapsed: Duration) -> Rendered {
+        let budget = self.budget();
+        Rendered {
+            samples: self.samples(),
+            paths: self.total,
+            elapsed,
+            stopped_early: self.total < budget,
+            film: self.film,
+            guides: self.guides,
+        }
     }
 }
 

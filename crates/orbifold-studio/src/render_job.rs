@@ -1,6 +1,7 @@
 //! Rendering in the background: the photo-realistic renderer (`orbifold-render`) on the view's
-//! camera, one pass (one sample a pixel) at a time, so the picture refines while the studio
-//! stays responsive; it can be cancelled, and the result shown and saved.
+//! camera, one round (a sample for every pixel, or for the noisiest ones) at a time, so the
+//! picture refines while the studio stays responsive; it can be cancelled, and the result
+//! shown and saved.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -10,7 +11,7 @@ use std::thread::JoinHandle;
 use orbifold_render::camera::Camera;
 use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{Progressive, RenderOptions};
 use orbifold_scene::Scene;
 
 /// What a running render shares with the studio.
@@ -27,7 +28,7 @@ pub struct RenderJob {
     shared: Arc<Mutex<Shared>>,
     cancel: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
-    /// Passes (samples a pixel) asked for.
+    /// Samples a pixel asked for (the mean: sampling is adaptive).
     pub samples: u32,
     /// The picture's size.
     pub size: (u32, u32),
@@ -69,7 +70,7 @@ impl RenderJob {
         }
     }
 
-    /// Passes done so far.
+    /// Samples a pixel so far (the mean over the picture).
     pub fn passes(&self) -> u32 {
         self.shared.lock().map_or(0, |s| s.passes)
     }
@@ -141,19 +142,14 @@ fn run(
         Err(e) => return finish(Some(e)),
     };
     let camera = Camera::new(integrator.space(), camera);
-    for pass in 0..samples {
-        if cancel.load(Ordering::Relaxed) {
-            break;
-        }
-        // One pass with its own seed: passes are independent samples, merged into one film.
-        let options = RenderOptions::new(size.0, size.1, 1, u64::from(pass));
-        let rendered = render(&integrator, &camera, &options, cancel, &|_, _| {});
+    // Rounds of the stratified, adaptive sampler; the picture is shared after each.
+    let options = RenderOptions::new(size.0, size.1, samples, 0);
+    let mut progressive = Progressive::new(&integrator, &camera, &options);
+    while progressive.paths() < progressive.budget() && !cancel.load(Ordering::Relaxed) {
+        progressive.round();
         if let Ok(mut s) = shared.lock() {
-            match &mut s.film {
-                Some(film) => film.merge(&rendered.film),
-                None => s.film = Some(rendered.film),
-            }
-            s.passes = pass + 1;
+            s.film = Some(progressive.film().clone());
+            s.passes = progressive.samples();
         }
     }
     finish(None);

@@ -1,0 +1,76 @@
+//! Area lights: a shadow ray to a point of a sphere light that faces the lit point does not meet
+//! the light before it (so the renderer leaves the light's own mesh out of that ray's tests).
+
+use num_complex::Complex64;
+use orbifold_render::light::{Emitter, Light, TangentFrame, connect};
+use orbifold_scene::{LightKind, Scene};
+use proptest::prelude::*;
+
+/// The default room of `signature` with a sphere light of radius 0.1 at height 0.6 over the
+/// centre, its lights, and the centre (model).
+fn lights(signature: &str) -> (orbifold::space::Space, Vec<Light>, Complex64) {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    let layout = scene.layout().unwrap();
+    scene.lights[0].kind = LightKind::Sphere;
+    scene.lights[0].at = [layout.centre.re, layout.centre.im];
+    scene.lights[0].height = 0.6;
+    scene.lights[0].radius = 0.1;
+    let space = layout.space();
+    (
+        space,
+        Light::from_scene(space, &scene).unwrap(),
+        layout.centre,
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    #[test]
+    fn shadow_rays_to_the_facing_side_of_a_sphere_light_meet_it_only_at_the_end(
+        g in 0usize..3,
+        (dx, dy, h) in (-0.5f64..0.5, -0.5f64..0.5, 0.0f64..1.0),
+        u in 0.0f64..1.0,
+        v in (0.0f64..1.0, 0.0f64..1.0),
+    ) {
+        let (space, lights, centre) = lights(["*235", "*2222", "*2223"][g]);
+        let light = &lights[0];
+        let Emitter::Area { instance, .. } = &light.emitter else { panic!("a sphere light") };
+        let z = centre + Complex64::new(0.4 * dx, 0.4 * dy);
+        let x = space.to_ambient(z);
+        // Points inside the light's reach are not asked about.
+        prop_assume!((space.ambient_distance(x, light.position).powi(2) + (h - 0.6f64).powi(2)).sqrt() > 0.15);
+        let from = Some((x, h));
+        let point = light.sample_point(space, u, v, from).unwrap();
+        let (triangle, _) = point.triangle.unwrap();
+        if light.reaches_unobstructed(space, triangle, from) {
+            let frame = TangentFrame::at(space, x);
+            let link = connect(space, &frame, (x, h), (point.x, point.h), false).unwrap();
+            let hit = instance.intersect(space, &link.ray, 0.0, f64::INFINITY).unwrap();
+            prop_assert!(
+                hit.s > link.length * (1.0 - 1e-7) - 1e-9,
+                "met the light at {} of {}", hit.s, link.length
+            );
+        }
+    }
+}
+
+#[test]
+fn most_sampled_points_of_a_sphere_light_are_known_to_be_unobstructed() {
+    for signature in ["*235", "*2222", "*2223"] {
+        let (space, lights, centre) = lights(signature);
+        let x = space.to_ambient(centre + Complex64::new(0.3, 0.1));
+        let from = Some((x, 0.2));
+        let n = 400;
+        let known = (0..n)
+            .filter(|k| {
+                let u = (f64::from(*k) + 0.5) / f64::from(n);
+                let point = lights[0].sample_point(space, u, (0.3, 0.6), from).unwrap();
+                lights[0].reaches_unobstructed(space, point.triangle.unwrap().0, from)
+            })
+            .count();
+        assert!(known > n as usize * 3 / 4, "{signature}: {known} of {n}");
+        // Not for a point light, nor without the lit point.
+        assert!(!lights[0].reaches_unobstructed(space, 0, None));
+    }
+}
