@@ -708,8 +708,9 @@ impl Light {
 
     /// Whether a geodesic from `from` (world coordinates in the light's own copy of the room, as
     /// for [`Light::sample_point`]) to a point of triangle `triangle` cannot meet the light
-    /// itself before it: for a sphere light's triangle that faces `from` (a geodesic enters a
-    /// convex ball once, through the side that faces it). Shadow rays to such a point need not
+    /// itself before it: for a sphere light's triangle that faces `from` clearly (a geodesic
+    /// enters a convex ball once, through the side that faces it; triangles near the silhouette,
+    /// where the curvature could decide, are left out). Shadow rays to such a point need not
     /// test the light's own mesh. False for other lights and triangles.
     pub fn reaches_unobstructed(
         &self,
@@ -731,8 +732,11 @@ impl Light {
         let i = triangle as usize;
         facing
             .local(space, (instance.to_object * x, h - instance.height))
+            // Facing by more than the margin that covers the curvature over the light (the
+            // test is made in the tangent space at the light's centre).
             .is_some_and(|b| {
-                i < facing.normals.len() && facing.normals[i].dot(b) > facing.offsets[i]
+                i < facing.normals.len()
+                    && facing.normals[i].dot(b) - facing.offsets[i] > facing.margin(b)
             })
     }
 

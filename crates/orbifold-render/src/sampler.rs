@@ -60,10 +60,15 @@ struct Sobol {
     seed: u32,
     /// The next dimension to hand out.
     dimension: u32,
+    /// The set of four dimensions last computed (`u32::MAX`: none) and its values: the Sobol
+    /// points are computed four dimensions at a time (SIMD in `sobol_burley`), about as fast as one.
+    set: u32,
+    values: [f32; 4],
 }
 
-/// Dimensions of the Sobol sequence taken by the camera ray (the position in the pixel).
-pub const CAMERA_DIMENSIONS: u32 = 2;
+/// Dimensions of the Sobol sequence set aside for the camera ray (the position in the pixel
+/// takes two; four keep every bounce's dimensions in whole sets of four).
+pub const CAMERA_DIMENSIONS: u32 = 4;
 /// Dimensions of the Sobol sequence set aside for each bounce of a path (light choice, point on
 /// the light, scattering direction and lobe, Russian roulette).
 pub const BOUNCE_DIMENSIONS: u32 = 8;
@@ -119,6 +124,8 @@ impl Sampler {
                 index: sample_index as u32,
                 seed: (scramble >> 32) as u32,
                 dimension: 0,
+                set: u32::MAX,
+                values: [0.0; 4],
             });
         }
         sampler
@@ -166,9 +173,13 @@ impl Sampler {
         if let Some(sobol) = &mut self.sobol
             && sobol.dimension < sobol_burley::NUM_DIMENSIONS
         {
-            let (index, dimension, seed) = (sobol.index, sobol.dimension, sobol.seed);
+            let (set, lane) = (sobol.dimension / 4, sobol.dimension % 4);
+            if set != sobol.set {
+                sobol.values = sobol_burley::sample_4d(sobol.index, set, sobol.seed);
+                sobol.set = set;
+            }
             sobol.dimension += 1;
-            let value = f64::from(sobol_burley::sample(index, dimension, seed));
+            let value = f64::from(sobol.values[lane as usize]);
             let jitter = self.next_independent_f64() * SOBOL_STEP;
             return (value + jitter).min(1.0 - f64::EPSILON / 2.0);
         }
