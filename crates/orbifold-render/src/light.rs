@@ -614,14 +614,13 @@ impl Light {
     }
 
     /// For a sphere light and a lit point `from` (world coordinates, in the light's own copy of
-    /// the room: the image's inverse applied), the point in the local coordinates of
-    /// [`Facing`], its margin and the total area of the triangles kept for it; `None` when every
-    /// triangle is a candidate.
-    fn kept(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(DVec3, f64, f64)> {
+    /// the room: the image's inverse applied), its [`Facing`] and the point in its local
+    /// coordinates; `None` for other lights, without `from`, or when every triangle is a
+    /// candidate (the point is too close).
+    fn facing_from(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(&Facing, DVec3)> {
         let (
             Emitter::Area {
                 instance,
-                areas,
                 facing: Some(facing),
                 ..
             },
@@ -631,6 +630,17 @@ impl Light {
             return None;
         };
         let b = facing.local(space, (instance.to_object * x, h - instance.height))?;
+        Some((facing, b))
+    }
+
+    /// For a sphere light and a lit point `from` (as for [`Light::facing_from`]), the point in
+    /// the local coordinates of [`Facing`], its margin and the total area of the triangles kept
+    /// for it; `None` when every triangle is a candidate.
+    fn kept(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(DVec3, f64, f64)> {
+        let (facing, b) = self.facing_from(space, from)?;
+        let Emitter::Area { areas, .. } = &self.emitter else {
+            return None;
+        };
         let margin = facing.margin(b);
         let total: f64 = areas
             .iter()
@@ -718,26 +728,13 @@ impl Light {
         triangle: u32,
         from: Option<(DVec3, f64)>,
     ) -> bool {
-        let (
-            Emitter::Area {
-                instance,
-                facing: Some(facing),
-                ..
-            },
-            Some((x, h)),
-        ) = (&self.emitter, from)
-        else {
-            return false;
-        };
         let i = triangle as usize;
-        facing
-            .local(space, (instance.to_object * x, h - instance.height))
-            // Facing by more than the margin that covers the curvature over the light (the
-            // test is made in the tangent space at the light's centre).
-            .is_some_and(|b| {
-                i < facing.normals.len()
-                    && facing.normals[i].dot(b) - facing.offsets[i] > facing.margin(b)
-            })
+        // Facing by more than the margin that covers the curvature over the light (the test is
+        // made in the tangent space at the light's centre).
+        self.facing_from(space, from).is_some_and(|(facing, b)| {
+            i < facing.normals.len()
+                && facing.normals[i].dot(b) - facing.offsets[i] > facing.margin(b)
+        })
     }
 
     /// The density per unit area with which [`Light::sample_point`] picks the point of triangle
