@@ -255,3 +255,38 @@ fn adaptive_sampling_spends_the_samples_where_the_screen_is_noisy() {
         mean(fewest)
     );
 }
+
+#[test]
+fn a_point_light_lights_the_room_as_a_tiny_sphere_light_of_the_same_power() {
+    // Brute force cannot find a point light; its light through the mirror images is checked
+    // against the limit it stands for: a sphere light of the same power, small against the room
+    // (whose own light sampling agrees with brute force, above). Far from the light the two
+    // differ by O(r²/d²).
+    // The camera looks straight down at the floor under the light: neither the light nor its
+    // images are in view (a tiny sphere seen directly would decide the mean), only the floor lit
+    // directly and through the partial mirrors.
+    for signature in ["*235", "*2222", "*2223"] {
+        let mut point = scene(signature, LightKind::Point);
+        point.camera.pitch = -89.0;
+        point.camera.fov = 60.0;
+        let mut sphere = point.clone();
+        sphere.lights[0].kind = LightKind::Sphere;
+        sphere.lights[0].radius = 0.01;
+        let render = |scene: &Scene, seed| {
+            let settings = Settings {
+                max_depth: 3,
+                ..Settings::default()
+            };
+            let options = RenderOptions::new(16, 12, 128, seed);
+            render_scene(scene, None, settings, &options).unwrap().film
+        };
+        let (a, ea) = mean_and_error(&render(&point, 5));
+        let (b, eb) = mean_and_error(&render(&sphere, 6));
+        assert!(a > 0.0 && b > 0.0, "{signature}: {a} {b}");
+        let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.02 * a;
+        assert!(
+            (a - b).abs() < tolerance,
+            "{signature}: point light {a} ± {ea}, sphere light {b} ± {eb}"
+        );
+    }
+}
