@@ -1,8 +1,10 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
-//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform]` (`--save` writes the raw and denoised PNGs; `--uniform`: no
-//! adaptive sampling)
+//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--reference T]` (`--save` writes the raw and
+//! denoised PNGs; `--uniform`: no adaptive sampling; `--reference T`: also the error of the first
+//! image, raw and denoised, against a reference rendered for T seconds: the denoiser's bias
+//! shows there)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -38,6 +40,7 @@ struct Args {
     mesh: Option<String>,
     save: Option<std::path::PathBuf>,
     uniform: bool,
+    reference: Option<f64>,
 }
 
 fn parse_args() -> Args {
@@ -48,6 +51,7 @@ fn parse_args() -> Args {
         mesh: None,
         save: None,
         uniform: false,
+        reference: None,
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -66,6 +70,7 @@ fn parse_args() -> Args {
             "--mesh" => args.mesh = Some(value()),
             "--save" => args.save = Some(value().into()),
             "--uniform" => args.uniform = true,
+            "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -105,8 +110,16 @@ fn scene(signature: &str, mesh: Option<&str>) -> Scene {
 }
 
 /// RMS, median and 99th percentile over pixels of |A − B|/√2 in 8-bit levels (mean of the
-/// channels per pixel).
+/// channels per pixel): the noise of one of two independent images.
 fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
+    let (rms, median, p99) = display_difference(a, b, exposure);
+    let r = std::f64::consts::SQRT_2;
+    (rms / r, median / r, p99 / r)
+}
+
+/// RMS, median and 99th percentile over pixels of |A − B| in 8-bit levels (mean of the
+/// channels per pixel).
+fn display_difference(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
     let mut per_pixel = Vec::new();
     let mut sum = 0.0;
     for y in 0..a.height() {
@@ -124,9 +137,8 @@ fn display_noise(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
         }
     }
     per_pixel.sort_by(f64::total_cmp);
-    let rms = (sum / per_pixel.len() as f64).sqrt() / std::f64::consts::SQRT_2;
-    let quantile =
-        |q: f64| per_pixel[((per_pixel.len() - 1) as f64 * q) as usize] / std::f64::consts::SQRT_2;
+    let rms = (sum / per_pixel.len() as f64).sqrt();
+    let quantile = |q: f64| per_pixel[((per_pixel.len() - 1) as f64 * q) as usize];
     (rms, quantile(0.5), quantile(0.99))
 }
 
@@ -160,13 +172,13 @@ fn main() {
         )
         .expect("the scene builds");
         let camera = Camera::new(integrator.space(), &scene.camera);
-        let run = |seed| {
+        let run_for = |seed, seconds: f64| {
             let options = RenderOptions {
                 width: args.size,
                 height: args.size,
                 samples: u32::MAX,
                 seed,
-                time_limit: Some(Duration::from_secs_f64(args.seconds)),
+                time_limit: Some(Duration::from_secs_f64(seconds)),
                 noise_target: None,
                 adaptive: !args.uniform,
             };
@@ -178,6 +190,7 @@ fn main() {
                 &|_, _| {},
             )
         };
+        let run = |seed| run_for(seed, args.seconds);
         let (a, b) = (run(1), run(2));
         let exposure = a.film.auto_exposure();
         let start = Instant::now();
@@ -214,5 +227,17 @@ fn main() {
             denoise_seconds,
             paths / 1e6
         );
+        if let Some(seconds) = args.reference {
+            let reference = run_for(3, seconds);
+            let spp = reference.paths as f64 / f64::from(args.size).powi(2);
+            let (raw, clean) = (
+                display_difference(&a.film, &reference.film, exposure),
+                display_difference(&da, &reference.film, exposure),
+            );
+            println!(
+                "|   against a {seconds} s reference ({spp:.0} spp): raw RMS, median, p99 | {:.1}, {:.1}, {:.1} | denoised | {:.1}, {:.1}, {:.1} |",
+                raw.0, raw.1, raw.2, clean.0, clean.1, clean.2
+            );
+        }
     }
 }
