@@ -8,7 +8,8 @@
 //! `full` draws every object at full detail in every copy (no levels of detail).
 //!
 //! Scenes: the seed's Fig. 8.4 pair (`*235` and `*2352` rooms with a dragon,
-//! `../shared/models/dragon.ply`, 47,794 triangles; the built-in figure if it is missing) and the
+//! `../shared/models/dragon.ply`, 47,794 triangles, or `$ORBIFOLD_MODELS/dragon.ply`; the built-in
+//! figure if it is missing) and the
 //! default `*22222` room at growing depths. Each row draws FRAMES frames with the camera turning
 //! (so the copies' matrices are rewritten every frame, as when walking in the studio) and reports
 //! the median time from submitting a frame until the GPU has finished it.
@@ -18,14 +19,14 @@ use std::time::Instant;
 use orbifold_preview::{Gpu, Preview};
 use orbifold_scene::{Object, Scene};
 
+/// The dragon from `$ORBIFOLD_MODELS/dragon.ply` (default: the workspace's `../shared/models`),
+/// so that a binary built here can be run on another machine with the mesh beside it.
 fn dragon() -> Option<String> {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/models/dragon.ply"
-    );
-    std::path::Path::new(path)
-        .exists()
-        .then(|| path.to_string())
+    let folder = std::env::var("ORBIFOLD_MODELS").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/models").to_string()
+    });
+    let path = format!("{folder}/dragon.ply");
+    std::path::Path::new(&path).exists().then_some(path)
 }
 
 fn scene(signature: &str, depth: u32, model: Option<&str>) -> Scene {
