@@ -9,8 +9,7 @@
 //!
 //! Scenes: the seed's Fig. 8.4 pair (`*235` and `*2352` rooms with a dragon,
 //! `../shared/models/dragon.ply`, 47,794 triangles, or `$ORBIFOLD_MODELS/dragon.ply`; the built-in
-//! figure if it is missing) and the
-//! default `*22222` room at growing depths. Each row draws FRAMES frames with the camera turning
+//! figure if it is missing) and the default `*22222` room at growing depths. Each row draws FRAMES frames with the camera turning
 //! (so the copies' matrices are rewritten every frame, as when walking in the studio) and reports
 //! the median time from submitting a frame until the GPU has finished it.
 
