@@ -83,7 +83,10 @@ impl Ray {
         if norm > 0.0 {
             self.direction = u / norm;
         }
-        let speed = self.cos_elevation.hypot(self.sin_elevation);
+        // Both are at most 1 in size: no overflow for `hypot` to guard against, and it is slow.
+        let speed = (self.cos_elevation * self.cos_elevation
+            + self.sin_elevation * self.sin_elevation)
+            .sqrt();
         if speed > 0.0 {
             self.cos_elevation /= speed;
             self.sin_elevation /= speed;
@@ -94,13 +97,15 @@ impl Ray {
     /// The horizontal position after horizontal distance `sigma`.
     #[inline]
     pub fn horizontal_at(&self, space: Space, sigma: f64) -> DVec3 {
-        self.origin * space.cos(sigma) + self.direction * space.sin(sigma)
+        let (c, s) = space.cos_sin(sigma);
+        self.origin * c + self.direction * s
     }
 
     /// The unit horizontal tangent after horizontal distance `sigma`: −κ S(σ)·p + C(σ)·u.
     #[inline]
     pub fn tangent_at(&self, space: Space, sigma: f64) -> DVec3 {
-        self.direction * space.cos(sigma) - self.origin * (space.kappa() * space.sin(sigma))
+        let (c, s) = space.cos_sin(sigma);
+        self.direction * c - self.origin * (space.kappa() * s)
     }
 
     /// The point (ambient horizontal position, height) at arc length `s`.
@@ -114,10 +119,10 @@ impl Ray {
 
     /// The same geodesic started at arc length `s`.
     pub fn advanced(&self, space: Space, s: f64) -> Ray {
-        let sigma = s * self.cos_elevation;
+        let (c, sn) = space.cos_sin(s * self.cos_elevation);
         Ray {
-            origin: self.horizontal_at(space, sigma),
-            direction: self.tangent_at(space, sigma),
+            origin: self.origin * c + self.direction * sn,
+            direction: self.direction * c - self.origin * (space.kappa() * sn),
             height: self.height + s * self.sin_elevation,
             ..*self
         }

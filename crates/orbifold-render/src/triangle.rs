@@ -343,7 +343,7 @@ impl PreparedTriangle {
         let h0 = frame.height() - h_ref;
         let eval = |s: f64| -> (f64, f64) {
             let sigma = s * ca;
-            let (c, sn) = (space.cos(sigma), space.sin(sigma));
+            let (c, sn) = space.cos_sin(sigma);
             let height = h0 + s * sa;
             let q = c * qp + sn * qu;
             let dq = -k * sn * qp + c * qu;

@@ -89,6 +89,36 @@ impl Space {
         }
     }
 
+    /// (C_κ(s), S_κ(s)) at once: cheaper than [`Space::cos`] and [`Space::sin`] apart (one
+    /// `sin_cos`, or one `exp_m1` for both hyperbolic functions), as accurate.
+    ///
+    /// ```
+    /// use orbifold::{Geometry, space::Space};
+    /// let h2 = Space::new(Geometry::Hyperbolic);
+    /// let (c, s) = h2.cos_sin(0.7);
+    /// assert!((c - 0.7f64.cosh()).abs() < 1e-15 && (s - 0.7f64.sinh()).abs() < 1e-15);
+    /// ```
+    #[inline]
+    pub fn cos_sin(&self, s: f64) -> (f64, f64) {
+        match self.kappa {
+            k if k > 0.0 => {
+                let (sin, cos) = s.sin_cos();
+                (cos, sin)
+            }
+            k if k < 0.0 => {
+                if s.abs() > 700.0 {
+                    return (s.cosh(), s.sinh()); // e^s overflows: let each saturate alone
+                }
+                // e^|s| − 1 keeps sinh accurate near 0: sinh |s| = ½(m + m/e^|s|), m = e^|s| − 1
+                // (≥ 0, so e^|s| = m + 1 never rounds to 0).
+                let m = s.abs().exp_m1();
+                let inv = 1.0 / (m + 1.0);
+                (0.5 * (m + 1.0 + inv), (0.5 * (m + m * inv)).copysign(s))
+            }
+            _ => (1.0, s),
+        }
+    }
+
     /// T_κ(s): tan s, s, tanh s.
     #[inline]
     pub fn tan(&self, s: f64) -> f64 {
@@ -345,5 +375,35 @@ impl Space {
         // real and positive; there the geodesic is the ray towards m(w).
         let image = (w - z) / (1.0 + self.kappa * z.conj() * w);
         image / image.norm()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// `cos_sin` is `cos` and `sin` at once, to a few ulps (relative, and absolute near 0).
+        #[test]
+        fn cos_sin_matches_cos_and_sin(s in -750.0f64..750.0, g in 0usize..3) {
+            let space = Space::new([Geometry::Spherical, Geometry::Euclidean, Geometry::Hyperbolic][g]);
+            let s = if g == 2 { s } else { s / 100.0 };
+            let (c, sn) = space.cos_sin(s);
+            let close = |a: f64, b: f64| {
+                a == b || (a - b).abs() <= 4.0 * f64::EPSILON * b.abs().max(1e-300) + 1e-300
+            };
+            prop_assert!(close(c, space.cos(s)), "cos {s}: {c} vs {}", space.cos(s));
+            prop_assert!(close(sn, space.sin(s)), "sin {s}: {sn} vs {}", space.sin(s));
+        }
+    }
+
+    #[test]
+    fn cos_sin_is_exact_at_zero_and_small() {
+        let h2 = Space::new(Geometry::Hyperbolic);
+        assert_eq!(h2.cos_sin(0.0), (1.0, 0.0));
+        let (_, s) = h2.cos_sin(1e-10);
+        assert!((s - 1e-10).abs() < 1e-25);
+        assert_eq!(h2.cos_sin(1e4), (f64::INFINITY, f64::INFINITY));
     }
 }
