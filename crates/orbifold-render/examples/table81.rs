@@ -199,13 +199,13 @@ fn main() {
             denoise(&b.film, &b.guides, &DenoiseOptions::default()),
         );
         let denoise_seconds = start.elapsed().as_secs_f64() / 2.0;
+        let name = if signature == "*" {
+            "star".to_string()
+        } else {
+            signature.replace('*', "star")
+        };
         if let Some(dir) = &args.save {
             std::fs::create_dir_all(dir).expect("the --save directory");
-            let name = if signature == "*" {
-                "star".to_string()
-            } else {
-                signature.replace('*', "star")
-            };
             for (film, tag) in [(&a.film, "raw"), (&da, "denoised"), (&db, "denoised-2")] {
                 film.write(&dir.join(format!("{name}-{tag}.png")), exposure)
                     .expect("the image is written");
@@ -230,13 +230,32 @@ fn main() {
         if let Some(seconds) = args.reference {
             let reference = run_for(3, seconds);
             let spp = reference.paths as f64 / f64::from(args.size).powi(2);
-            let (raw, clean) = (
+            if let Some(dir) = &args.save {
+                reference
+                    .film
+                    .write(&dir.join(format!("{name}-reference.png")), exposure)
+                    .expect("the reference is written");
+            }
+            let (raw_error, clean_error) = (
                 display_difference(&a.film, &reference.film, exposure),
                 display_difference(&da, &reference.film, exposure),
             );
+            // The reference is noisy too (and adaptive sampling gives its smooth parts the fewest
+            // samples): its own standard error, and what is left of the denoised image's error
+            // once both images' noise is taken out, err² − noise² − reference noise².
+            let errors = reference.film.display_errors(exposure);
+            let reference_noise =
+                (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+            let bias = |error: f64, noise: f64| {
+                (error.powi(2) - noise.powi(2) - reference_noise.powi(2))
+                    .max(0.0)
+                    .sqrt()
+            };
+            // The raw image's should be about 0: a check of the estimate.
+            let (raw_bias, clean_bias) = (bias(raw_error.0, raw.0), bias(clean_error.0, clean.0));
             println!(
-                "|   against a {seconds} s reference ({spp:.0} spp): raw RMS, median, p99 | {:.1}, {:.1}, {:.1} | denoised | {:.1}, {:.1}, {:.1} |",
-                raw.0, raw.1, raw.2, clean.0, clean.1, clean.2
+                "|   against a {seconds} s reference ({spp:.0} spp, its noise RMS {reference_noise:.1}): raw RMS, median, p99 | {:.1}, {:.1}, {:.1} | denoised | {:.1}, {:.1}, {:.1} | bias RMS ≈ {clean_bias:.1} (raw: {raw_bias:.1}) |",
+                raw_error.0, raw_error.1, raw_error.2, clean_error.0, clean_error.1, clean_error.2
             );
         }
     }

@@ -15,6 +15,7 @@ pub mod aov;
 pub mod bsdf;
 pub mod bvh;
 pub mod denoise;
+mod fastmath;
 pub mod flat;
 pub mod instance;
 pub mod integrator;

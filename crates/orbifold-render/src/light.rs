@@ -366,8 +366,10 @@ pub struct Facing {
     frame: TangentFrame,
     centre: DVec3,
     radius: f64,
-    normals: Vec<DVec3>,
-    offsets: Vec<f64>,
+    /// Per triangle (n_x, n_y, n_z, n·a): its outward normal and offset, together in one
+    /// array so that the scan over them (twice per light sample) runs from one cache line to
+    /// the next and without branches.
+    planes: Vec<[f64; 4]>,
 }
 
 impl Facing {
@@ -400,17 +402,16 @@ impl Facing {
             .iter()
             .map(|a| (*a - centre).length())
             .fold(0.0, f64::max);
-        let offsets = normals
+        let planes = normals
             .iter()
             .zip(&centroids)
-            .map(|(n, a)| n.dot(*a))
+            .map(|(n, a)| [n.x, n.y, n.z, n.dot(*a)])
             .collect();
         (radius > 0.0 && radius.is_finite()).then_some(Facing {
             frame,
             centre,
             radius,
-            normals,
-            offsets,
+            planes,
         })
     }
 
@@ -430,7 +431,27 @@ impl Facing {
     /// Whether triangle `i` is kept for the local point `b` with margin `margin`.
     #[inline]
     fn keeps(&self, i: usize, b: DVec3, margin: f64) -> bool {
-        self.normals[i].dot(b) - self.offsets[i] > -margin
+        Self::keeps_plane(&self.planes[i], b, margin)
+    }
+
+    #[inline(always)]
+    fn keeps_plane(plane: &[f64; 4], b: DVec3, margin: f64) -> bool {
+        plane[0] * b.x + plane[1] * b.y + plane[2] * b.z - plane[3] > -margin
+    }
+
+    /// The total of `areas` over the triangles kept for `b` (one branch-free pass).
+    fn kept_area(&self, areas: &[f64], b: DVec3, margin: f64) -> f64 {
+        self.planes
+            .iter()
+            .zip(areas)
+            .map(|(plane, &a)| {
+                if Self::keeps_plane(plane, b, margin) {
+                    a
+                } else {
+                    0.0
+                }
+            })
+            .sum()
     }
 }
 
@@ -642,12 +663,7 @@ impl Light {
             return None;
         };
         let margin = facing.margin(b);
-        let total: f64 = areas
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| facing.keeps(i, b, margin))
-            .map(|(_, a)| a)
-            .sum();
+        let total = facing.kept_area(areas, b, margin);
         (total > 0.0).then_some((b, margin, total))
     }
 
@@ -732,8 +748,10 @@ impl Light {
         // Facing by more than the margin that covers the curvature over the light (the test is
         // made in the tangent space at the light's centre).
         self.facing_from(space, from).is_some_and(|(facing, b)| {
-            i < facing.normals.len()
-                && facing.normals[i].dot(b) - facing.offsets[i] > facing.margin(b)
+            i < facing.planes.len() && {
+                let [x, y, z, offset] = facing.planes[i];
+                DVec3::new(x, y, z).dot(b) - offset > facing.margin(b)
+            }
         })
     }
 
