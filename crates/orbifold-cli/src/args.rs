@@ -163,7 +163,8 @@ pub struct ImageArgs {
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
     /// Samples per pixel (default: the scene's); on average over the image, since adaptive
-    /// sampling gives more to the pixels that are noisiest on screen.
+    /// sampling gives more to the pixels that are noisiest on screen (for a denoised image,
+    /// those the denoiser cannot smooth).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
     /// The same number of samples for every pixel (no adaptive sampling).

@@ -1,8 +1,11 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
-//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--reference T]` (`--save` writes the raw and
-//! denoised PNGs; `--uniform`: no adaptive sampling; `--reference T`: also the error of the first
+//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--reference T]` (`--save`
+//! writes the raw and denoised PNGs, the difference of the two denoised images, 8 grey levels a
+//! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
+//! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--reference T`:
+//! also the error of the first
 //! image, raw and denoised, against a reference rendered for T seconds: the denoiser's bias
 //! shows there)
 //!
@@ -40,6 +43,7 @@ struct Args {
     mesh: Option<String>,
     save: Option<std::path::PathBuf>,
     uniform: bool,
+    raw_target: bool,
     reference: Option<f64>,
 }
 
@@ -51,6 +55,7 @@ fn parse_args() -> Args {
         mesh: None,
         save: None,
         uniform: false,
+        raw_target: false,
         reference: None,
     };
     let default_mesh = concat!(
@@ -70,6 +75,7 @@ fn parse_args() -> Args {
             "--mesh" => args.mesh = Some(value()),
             "--save" => args.save = Some(value().into()),
             "--uniform" => args.uniform = true,
+            "--raw-target" => args.raw_target = true,
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             other => panic!("unknown argument {other}"),
         }
@@ -142,6 +148,44 @@ fn display_difference(a: &Film, b: &Film, exposure: f64) -> (f64, f64, f64) {
     (rms, quantile(0.5), quantile(0.99))
 }
 
+/// Writes |A − B| (the mean of the channels) as a grey PNG, 8 grey levels per level of
+/// difference: where two renders of the same scene disagree.
+fn write_difference(a: &Film, b: &Film, exposure: f64, path: &std::path::Path) {
+    let grey: Vec<u8> = (0..a.height())
+        .flat_map(|y| (0..a.width()).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (p, q) = (
+                tone_map(a.pixel(x, y), exposure),
+                tone_map(b.pixel(x, y), exposure),
+            );
+            let d = (0..3).map(|c| f64::from(p[c].abs_diff(q[c]))).sum::<f64>() / 3.0;
+            (8.0 * d).min(255.0) as u8
+        })
+        .collect();
+    image::save_buffer(path, &grey, a.width(), a.height(), image::ColorType::L8)
+        .expect("the difference is written");
+}
+
+/// Writes the samples each pixel got as a grey PNG (white: the most any pixel got).
+fn write_samples(film: &Film, path: &std::path::Path) {
+    let counts: Vec<u64> = (0..film.height())
+        .flat_map(|y| (0..film.width()).map(move |x| film.samples(x, y)))
+        .collect();
+    let most = counts.iter().copied().max().unwrap_or(1).max(1) as f64;
+    let grey: Vec<u8> = counts
+        .iter()
+        .map(|&n| (255.0 * (n as f64 / most).sqrt()) as u8)
+        .collect();
+    image::save_buffer(
+        path,
+        &grey,
+        film.width(),
+        film.height(),
+        image::ColorType::L8,
+    )
+    .expect("the sample map is written");
+}
+
 fn main() {
     let args = parse_args();
     println!(
@@ -181,6 +225,7 @@ fn main() {
                 time_limit: Some(Duration::from_secs_f64(seconds)),
                 noise_target: None,
                 adaptive: !args.uniform,
+                denoised: !args.raw_target,
             };
             render(
                 &integrator,
@@ -210,6 +255,13 @@ fn main() {
                 film.write(&dir.join(format!("{name}-{tag}.png")), exposure)
                     .expect("the image is written");
             }
+            write_difference(
+                &da,
+                &db,
+                exposure,
+                &dir.join(format!("{name}-difference.png")),
+            );
+            write_samples(&a.film, &dir.join(format!("{name}-samples.png")));
         }
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);
@@ -227,6 +279,21 @@ fn main() {
             denoise_seconds,
             paths / 1e6
         );
+        {
+            let mut spp: Vec<u64> = (0..args.size * args.size)
+                .map(|p| a.film.samples(p % args.size, p / args.size))
+                .collect();
+            spp.sort_unstable();
+            let q = |f: f64| spp[((spp.len() - 1) as f64 * f) as usize];
+            println!(
+                "|   samples per pixel: median {}, 90th percentile {}, 99th {}, most {}; raw display noise 99th percentile {:.1} |",
+                q(0.5),
+                q(0.9),
+                q(0.99),
+                q(1.0),
+                raw.2
+            );
+        }
         if let Some(seconds) = args.reference {
             let reference = run_for(3, seconds);
             let spp = reference.paths as f64 / f64::from(args.size).powi(2);

@@ -182,6 +182,45 @@ const ALBEDO_FLOOR: f64 = 0.01;
 /// assert!((clean.pixel(5, 7)[0] - 0.3).abs() < 0.02);
 /// ```
 pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
+    denoise_with_reduction(film, guides, options).0
+}
+
+/// [`denoise`], and for every pixel (row by row) how much the filter lowers the variance of its
+/// estimate, in [0, 1]: the variance of the filtered lighting, propagated through the passes as
+/// if the inputs of each pass were independent (as in SVGF), over the variance of the pixel's
+/// own mean; 1 where that is unknown (fewer than two samples). Adaptive sampling uses it to
+/// spend samples where the denoised image will be noisy rather than where the raw one is.
+///
+/// The propagation ignores the correlation that each pass gives its outputs, so on smooth
+/// surfaces the factor is far smaller than the true one; it orders pixels well.
+///
+/// ```
+/// use orbifold_render::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
+/// use orbifold_render::film::Film;
+/// use orbifold_render::integrator::FirstHit;
+///
+/// // A noisy flat wall, and one pixel that saw something else (another albedo).
+/// let (w, h) = (9, 9);
+/// let mut film = Film::new(w, h);
+/// let mut guides = Guides::new(w, h);
+/// for y in 0..h {
+///     for x in 0..w {
+///         let albedo = if (x, y) == (4, 4) { [0.9, 0.1, 0.1] } else { [0.5; 3] };
+///         for k in 0..4u32 {
+///             film.add(x, y, [0.3 + 0.1 * f64::from(k % 2); 3]);
+///             guides.add(x, y, &FirstHit { albedo, normal: glam::DVec3::Z, depth: 1.0 });
+///         }
+///     }
+/// }
+/// let (_, reduction) = denoise_with_reduction(&film, &guides, &DenoiseOptions::default());
+/// assert!(reduction[2 * 9 + 2] < 0.1); // averaged with its neighbours
+/// assert!(reduction[4 * 9 + 4] > 0.9); // alone: the filter cannot help it
+/// ```
+pub fn denoise_with_reduction(
+    film: &Film,
+    guides: &Guides,
+    options: &DenoiseOptions,
+) -> (Film, Vec<f64>) {
     let (width, height) = (film.width(), film.height());
     assert_eq!(
         (guides.width, guides.height),
@@ -222,6 +261,7 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
         coherence: &coherence,
         options,
     };
+    let before = variance.clone();
     for pass in 0..options.passes {
         let step = 1usize << pass;
         // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in SVGF):
@@ -244,7 +284,18 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
             [l[0] * a[0], l[1] * a[1], l[2] * a[2]]
         })
         .collect();
-    Film::from_pixels(width, height, &pixels)
+    let reduction = before
+        .iter()
+        .zip(&variance)
+        .map(|(&own, &filtered)| {
+            if own.is_finite() && filtered.is_finite() && own > 0.0 {
+                (filtered / own).min(1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    (Film::from_pixels(width, height, &pixels), reduction)
 }
 
 /// The guides of one denoising run.
@@ -284,6 +335,40 @@ impl Guide<'_> {
         }
     }
 
+    /// How much neighbour `j` counts for pixel `i` (before the kernel's weight): a product of
+    /// falloffs in their normals' angle, depths, albedos and lighting, computed as one
+    /// exponential of the sum of their logarithms (the filter's hot path). The guides' terms are
+    /// scaled by how much pixel `i`'s paths agree (its coherence).
+    fn edge_stop(
+        &self,
+        i: usize,
+        j: usize,
+        step: usize,
+        lighting_i: f64,
+        lighting_j: f64,
+        tolerance: f64,
+    ) -> f64 {
+        let o = self.options;
+        let trust = self.coherence[i];
+        let cos = self.normal[i].dot(self.normal[j]);
+        // max(0, cos)^(σ·trust), with 0^0 = 1 as `powf` has it.
+        let normal = if trust <= 0.0 {
+            0.0
+        } else if cos > 0.0 {
+            o.sigma_normal * trust * cos.ln()
+        } else {
+            return 0.0;
+        };
+        let (zi, zj) = (self.depth[i], self.depth[j]);
+        let depth = -(zi - zj).abs() / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9) * trust;
+        let da: f64 = (0..3)
+            .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
+            .sum();
+        let albedo = -da / (o.sigma_albedo * o.sigma_albedo) * trust;
+        let light = -(lighting_i - lighting_j).abs() / tolerance;
+        (normal + depth + albedo + light).exp()
+    }
+
     /// One à-trous tap set around pixel `i` with holes of `step`: the filtered lighting and its
     /// variance. `variance_around` is the (blurred) variance that sets the lighting tolerance.
     fn filter(
@@ -303,8 +388,8 @@ impl Guide<'_> {
         let tolerance = o.sigma_lighting * variance_around.sqrt() + 1e-6;
         // A pixel whose paths saw many different things (sub-pixel detail: the crowd of far
         // mirror images at a hyperbolic room's horizon) has guides that are themselves noise:
-        // it listens to them only as much as its paths agree, and to its lighting tolerance.
-        let trust = self.coherence[i];
+        // it listens to them only as much as its paths agree (`edge_stop`), and to its
+        // lighting tolerance.
         let (mut sum, mut weights, mut var) = ([0.0; 3], 0.0, 0.0);
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y + (dy as isize - 2) * step as isize;
@@ -320,21 +405,8 @@ impl Guide<'_> {
                 let w = if j == i {
                     kx * ky
                 } else {
-                    let normal = self.normal[i]
-                        .dot(self.normal[j])
-                        .max(0.0)
-                        .powf(o.sigma_normal * trust);
-                    let (zi, zj) = (self.depth[i], self.depth[j]);
-                    let depth = (-(zi - zj).abs()
-                        / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9)
-                        * trust)
-                        .exp();
-                    let da: f64 = (0..3)
-                        .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
-                        .sum();
-                    let albedo = (-da / (o.sigma_albedo * o.sigma_albedo) * trust).exp();
-                    let light = (-(centre_l - luminance(lighting[j])).abs() / tolerance).exp();
-                    kx * ky * normal * depth * albedo * light
+                    kx * ky
+                        * self.edge_stop(i, j, step, centre_l, luminance(lighting[j]), tolerance)
                 };
                 // NaN weights (from NaN guides) and unsampled neighbours are skipped.
                 let usable = w > 0.0 && (j == i || variance[j].is_finite());

@@ -2,12 +2,25 @@
 //! [`Film`]; stops after the wanted samples, at a time limit, or when asked to.
 //!
 //! **Adaptive sampling** (on by default): after [`WARMUP_ROUNDS`] rounds over the whole image,
-//! most rounds sample only the pixels whose noise on screen matters most — those whose
-//! squared display error over their sample count ([`Film::display_errors`]; the largest in
-//! their 3×3 neighbourhood, so that a pixel whose few samples happened to agree is not left
-//! out) is at least the image's mean — and every [`FULL_ROUND_EVERY`]th round is again over
-//! the whole image. Far mirror images crowd into a few pixels (the horizon of a hyperbolic
-//! room holds thousands of copies of the room); they get the samples, while smooth walls do not.
+//! most rounds sample only the pixels whose noise on screen matters most, and every
+//! [`FULL_ROUND_EVERY`]th round is again over the whole image. A pixel's score is its squared
+//! display error ([`Film::display_errors`]), taken as the largest in its 3×3 neighbourhood so
+//! that a pixel whose few samples happened to agree is not left out:
+//!
+//! - for an image shown as it is, the score is divided by the pixel's sample count (the
+//!   greedy order for the least summed squared error), and a round gives one sample to every
+//!   pixel whose score is at least the image's mean;
+//! - for an image that will be denoised ([`RenderOptions::denoised`]), the score is the noise
+//!   the denoiser will leave: the squared display error times the square root of the filter's
+//!   variance reduction at that pixel ([`crate::denoise::denoise_with_reduction`], recomputed
+//!   at rounds 4, 8, 16, …; the root because the propagated reduction overstates what the
+//!   filter does on smooth surfaces), and a pixel gets as many samples in a round as its score
+//!   is multiples of the mean, up to [`MOST_SAMPLES_PER_ROUND`]. The samples go to what the
+//!   filter cannot smooth — the horizon's crowd of sub-pixel mirror images, silhouettes —
+//!   rather than to walls that it averages anyway (measured in `docs/benchmarks.md`).
+//!
+//! Far mirror images crowd into a few pixels (the horizon of a hyperbolic room holds thousands
+//! of copies of the room); they get the samples, while smooth walls do not.
 //!
 //! Every sample's random numbers depend only on (seed, pixel, the pixel's sample index), and
 //! each round is added to the film in pixel order, so an image is the same for a given seed
@@ -21,7 +34,7 @@ use orbifold_scene::Scene;
 use rayon::prelude::*;
 
 use crate::camera::Camera;
-use crate::denoise::Guides;
+use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::Film;
 use crate::integrator::{Integrator, PathSample, Settings};
 use crate::sampler::Sampler;
@@ -45,16 +58,22 @@ pub struct RenderOptions {
     /// Spend the samples where the image is noisiest (see the module documentation); without
     /// it, every pixel gets exactly `samples` samples.
     pub adaptive: bool,
+    /// The image will be denoised ([`crate::denoise`]): adaptive sampling aims at the noise the
+    /// denoiser leaves rather than at the raw image's (see the module documentation).
+    pub denoised: bool,
 }
 
 /// Rounds over the whole image before adaptive sampling starts.
 pub const WARMUP_ROUNDS: u32 = 4;
 /// With adaptive sampling, every this many rounds one is over the whole image.
 pub const FULL_ROUND_EVERY: u32 = 8;
+/// With adaptive sampling for a denoised image, the most samples a pixel gets in one round.
+pub const MOST_SAMPLES_PER_ROUND: u32 = 16;
 
 impl RenderOptions {
     /// `samples` samples per pixel (on average: adaptive sampling is on) over a `width` ×
-    /// `height` image with `seed`, without a time limit or a noise target.
+    /// `height` image with `seed`, without a time limit or a noise target, to be shown without
+    /// denoising.
     ///
     /// ```
     /// use orbifold_render::render::RenderOptions;
@@ -71,6 +90,7 @@ impl RenderOptions {
             time_limit: None,
             noise_target: None,
             adaptive: true,
+            denoised: false,
         }
     }
 }
@@ -187,6 +207,9 @@ pub struct Progressive<'a> {
     taken: Vec<u32>,
     total: u64,
     rounds: u32,
+    /// The denoiser's variance reduction per pixel, when adaptive sampling aims at a denoised
+    /// image (refreshed at rounds 4, 8, 16, …).
+    reduction: Option<Vec<f64>>,
 }
 
 impl<'a> Progressive<'a> {
@@ -206,6 +229,7 @@ impl<'a> Progressive<'a> {
             taken: vec![0; width as usize * height as usize],
             total: 0,
             rounds: 0,
+            reduction: None,
         }
     }
 
@@ -223,30 +247,46 @@ impl<'a> Progressive<'a> {
         if pixels == 0 {
             return;
         }
-        let chosen = if options.adaptive
+        let adaptive_round = options.adaptive
             && self.rounds >= WARMUP_ROUNDS
-            && !self.rounds.is_multiple_of(FULL_ROUND_EVERY)
-        {
-            noisiest(&self.film, &self.taken)
-        } else {
-            None
-        };
+            && !self.rounds.is_multiple_of(FULL_ROUND_EVERY);
+        let refresh = options.adaptive && options.denoised && self.rounds >= WARMUP_ROUNDS;
+        if refresh && self.rounds.is_power_of_two() {
+            let (_, reduction) =
+                denoise_with_reduction(&self.film, &self.guides, &DenoiseOptions::default());
+            self.reduction = Some(reduction);
+        }
+        let chosen = adaptive_round
+            .then(|| {
+                let target = match &self.reduction {
+                    Some(reduction) if options.denoised => Target::Denoised(reduction),
+                    _ => Target::Raw,
+                };
+                noisiest(&self.film, &self.taken, target)
+            })
+            .flatten();
         let taken = &self.taken;
         let (integrator, camera) = (self.integrator, self.camera);
-        let trace = |pixel: u64| {
+        let trace = |pixel: u64, index: u32| {
             let (i, j) = (
                 (pixel % u64::from(width)) as u32,
                 (pixel / u64::from(width)) as u32,
             );
-            let index = u64::from(taken[pixel as usize]);
-            let mut sampler = Sampler::stratified(options.seed, pixel, index);
+            let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(index));
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             integrator.sample(&ray, &mut sampler)
         };
+        // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
         let results: Vec<(u64, PathSample)> = match &chosen {
-            Some(list) => list.par_iter().map(|&p| (p, trace(p))).collect(),
-            None => (0..pixels).into_par_iter().map(|p| (p, trace(p))).collect(),
+            Some(list) => list
+                .par_iter()
+                .map(|&(p, k)| (p, trace(p, taken[p as usize] + k)))
+                .collect(),
+            None => (0..pixels)
+                .into_par_iter()
+                .map(|p| (p, trace(p, taken[p as usize])))
+                .collect(),
         };
         for (pixel, value) in &results {
             let (i, j) = (
@@ -300,16 +340,29 @@ impl<'a> Progressive<'a> {
     }
 }
 
-/// The pixels that an adaptive round samples, in order: those whose squared display error per
-/// sample, the largest in their 3×3 neighbourhood, is at least the mean over the image. `None`
-/// (a round over the whole image) when that picks every pixel or none.
-fn noisiest(film: &Film, taken: &[u32]) -> Option<Vec<u64>> {
+/// What adaptive sampling aims at.
+#[derive(Clone, Copy, Debug)]
+enum Target<'a> {
+    /// The image as it is.
+    Raw,
+    /// The image after denoising, with the denoiser's variance reduction per pixel.
+    Denoised(&'a [f64]),
+}
+
+/// The samples of an adaptive round, in pixel order, as (pixel, index among its new samples):
+/// see the module documentation for the score. `None` (a round over the whole image) when that
+/// picks every pixel or none.
+fn noisiest(film: &Film, taken: &[u32], target: Target) -> Option<Vec<(u64, u32)>> {
     let (width, height) = (film.width() as usize, film.height() as usize);
     let errors = film.display_errors(film.auto_exposure());
     let score: Vec<f64> = errors
         .iter()
         .zip(taken)
-        .map(|(e, &n)| e * e / f64::from(n.max(1)))
+        .enumerate()
+        .map(|(i, (e, &n))| match target {
+            Target::Raw => e * e / f64::from(n.max(1)),
+            Target::Denoised(reduction) => e * e * reduction[i].sqrt(),
+        })
         .collect();
     if score.iter().any(|s| !s.is_finite()) {
         return None;
@@ -330,8 +383,84 @@ fn noisiest(film: &Film, taken: &[u32]) -> Option<Vec<u64>> {
         })
         .collect();
     let mean = spread.iter().sum::<f64>() / spread.len() as f64;
-    let chosen: Vec<u64> = (0..spread.len() as u64)
+    let most = match target {
+        Target::Raw => 1.0,
+        Target::Denoised(_) => f64::from(MOST_SAMPLES_PER_ROUND),
+    };
+    // Σ ⌊score/mean⌋ over the chosen pixels is at most the pixel count: a round is never
+    // longer than one over the whole image.
+    let chosen: Vec<(u64, u32)> = (0..spread.len() as u64)
         .filter(|&p| spread[p as usize] >= mean && spread[p as usize] > 0.0)
+        .flat_map(|p| {
+            let k = (spread[p as usize] / mean).min(most) as u32;
+            (0..k.max(1)).map(move |i| (p, i))
+        })
         .collect();
-    (!chosen.is_empty() && chosen.len() < spread.len()).then_some(chosen)
+    let distinct = chosen.iter().filter(|&&(_, i)| i == 0).count();
+    (distinct > 0 && distinct < spread.len()).then_some(chosen)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A `width` × 1 film whose pixels have the given (mean, spread) over four samples.
+    fn film(pixels: &[(f64, f64)]) -> Film {
+        let mut film = Film::new(pixels.len() as u32, 1);
+        for (x, &(mean, spread)) in pixels.iter().enumerate() {
+            for k in 0..4 {
+                let v = if k % 2 == 0 {
+                    mean - spread
+                } else {
+                    mean + spread
+                };
+                film.add(x as u32, 0, [v; 3]);
+            }
+        }
+        film
+    }
+
+    #[test]
+    fn a_denoised_target_samples_what_the_filter_cannot_smooth() {
+        // Sixteen equally noisy pixels: for the raw image every one is as noisy as the mean
+        // (a round over the whole image); for a denoised one, only those that the filter
+        // leaves alone, and their neighbours, several samples each.
+        let film = film(&[(0.3, 0.1); 16]);
+        let taken = [4; 16];
+        assert_eq!(noisiest(&film, &taken, Target::Raw), None);
+        let mut reduction = [1e-4; 16];
+        reduction[..4].fill(1.0);
+        let chosen = noisiest(&film, &taken, Target::Denoised(&reduction)).unwrap();
+        // Scores: e² for pixels 0-4 (4 by its neighbour), e²/100 for the others; the mean is
+        // (5 + 11/100)/16 e², so each chosen pixel gets ⌊16/5.11⌋ = 3 samples.
+        let expected: Vec<(u64, u32)> = (0..5).flat_map(|p| (0..3).map(move |k| (p, k))).collect();
+        assert_eq!(chosen, expected);
+    }
+
+    proptest! {
+        #[test]
+        fn an_adaptive_round_is_never_longer_than_a_full_one(
+            pixels in prop::collection::vec((0.0f64..2.0, 0.0f64..1.0), 2..40),
+            reduction in prop::collection::vec(0.0f64..=1.0, 40),
+            denoised in any::<bool>(),
+        ) {
+            let film = film(&pixels);
+            let taken = vec![4; pixels.len()];
+            let target = if denoised {
+                Target::Denoised(&reduction[..pixels.len()])
+            } else {
+                Target::Raw
+            };
+            if let Some(chosen) = noisiest(&film, &taken, target) {
+                prop_assert!(chosen.len() <= pixels.len());
+                // In pixel order, each pixel's new samples numbered from 0.
+                for pair in chosen.windows(2) {
+                    let ((p, i), (q, j)) = (pair[0], pair[1]);
+                    prop_assert!((q == p && j == i + 1) || (q > p && j == 0));
+                }
+                prop_assert_eq!(chosen[0].1, 0);
+            }
+        }
+    }
 }

@@ -5,6 +5,7 @@
 use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
+use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
 use orbifold_render::film::Film;
 use orbifold_render::integrator::Settings;
 use orbifold_render::light::{TangentFrame, spread};
@@ -253,6 +254,62 @@ fn adaptive_sampling_spends_the_samples_where_the_screen_is_noisy() {
         "display error of the most sampled {:.2}, of the least {:.2}",
         mean(most),
         mean(fewest)
+    );
+}
+
+#[test]
+fn adaptive_sampling_for_a_denoised_image_spends_the_samples_where_the_filter_cannot_help() {
+    let scene = scene("*2222", LightKind::Sphere);
+    let settings = Settings {
+        max_depth: 3,
+        ..Settings::default()
+    };
+    let (w, h, spp) = (48u32, 36u32, 40u32);
+    let pixels = u64::from(w * h);
+    let run = |adaptive: bool, threads: usize| {
+        let options = RenderOptions {
+            adaptive,
+            denoised: true,
+            ..RenderOptions::new(w, h, spp, 4)
+        };
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render_scene(&scene, None, settings, &options).unwrap())
+    };
+    let (uniform, adaptive) = (run(false, 2), run(true, 2));
+    assert!(adaptive.paths >= u64::from(spp) * pixels);
+    assert!(adaptive.paths < u64::from(spp + 1) * pixels);
+    // The denoiser runs inside the loop: still the same image whatever the threads.
+    let single = run(true, 1);
+    assert!((0..h).all(|y| (0..w).all(|x| single.film.pixel(x, y) == adaptive.film.pixel(x, y))));
+    // Against adaptive sampling for the raw image, the samples move to the pixels that the
+    // denoiser leaves alone (its variance reduction, measured on the uniform render).
+    let raw = {
+        let options = RenderOptions::new(w, h, spp, 4);
+        render_scene(&scene, None, settings, &options).unwrap()
+    };
+    let (_, reduction) =
+        denoise_with_reduction(&uniform.film, &uniform.guides, &DenoiseOptions::default());
+    // The mean over the adaptive rounds' samples (those beyond the full rounds' count, which
+    // every pixel has) of the root of the reduction at their pixel.
+    let share = |film: &Film| {
+        let counts: Vec<f64> = (0..w * h)
+            .map(|i| film.samples(i % w, i / w) as f64)
+            .collect();
+        let fewest = counts.iter().copied().fold(f64::INFINITY, f64::min);
+        let (mut sum, mut all) = (0.0, 0.0);
+        for (n, r) in counts.iter().zip(&reduction) {
+            (sum, all) = (sum + (n - fewest) * r.sqrt(), all + n - fewest);
+        }
+        sum / all
+    };
+    let (for_denoised, for_raw) = (share(&adaptive.film), share(&raw.film));
+    assert!(
+        for_denoised > 1.2 * for_raw,
+        "mean root reduction where the adaptive samples went: {for_denoised:.2} aiming at the \
+         denoised image, {for_raw:.2} at the raw one"
     );
 }
 

@@ -234,7 +234,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), CliError> {
             count - 1
         )));
     }
-    let (settings, options) = settings_and_options(&args.image, &scene);
+    let (settings, options) = settings_and_options(&args.image, &scene, &format);
     let job = Job {
         settings,
         options,

@@ -81,8 +81,14 @@ pub(crate) fn check_image_args(args: &ImageArgs) -> Result<(), CliError> {
 }
 
 /// The light transport settings and render options of the shared image options, with the
-/// scene's `[render]` table for what they leave out.
-pub(crate) fn settings_and_options(args: &ImageArgs, scene: &Scene) -> (Settings, RenderOptions) {
+/// scene's `[render]` table for what they leave out, for an image written as `extension` (lower
+/// case): when it will be denoised (PNG and JPEG by default), adaptive sampling aims at the
+/// denoised image's noise.
+pub(crate) fn settings_and_options(
+    args: &ImageArgs,
+    scene: &Scene,
+    extension: &str,
+) -> (Settings, RenderOptions) {
     let settings = Settings {
         max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
         nee: !args.no_nee,
@@ -100,6 +106,7 @@ pub(crate) fn settings_and_options(args: &ImageArgs, scene: &Scene) -> (Settings
         time_limit: args.time_limit.map(Duration::from_secs_f64),
         noise_target: args.noise_target,
         adaptive: !args.no_adaptive,
+        denoised: denoises(args, extension),
     };
     (settings, options)
 }
@@ -140,7 +147,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     }
     check_image_args(&args.image)?;
     let (scene, base) = load(args.input.as_deref())?;
-    let (settings, options) = settings_and_options(&args.image, &scene);
+    let (settings, options) =
+        settings_and_options(&args.image, &scene, extension.as_deref().unwrap_or(""));
     let (width, height) = (options.width, options.height);
     let integrator =
         Integrator::from_scene(&scene, base.as_deref(), settings).map_err(CliError::Input)?;
