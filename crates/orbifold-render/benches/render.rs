@@ -2,13 +2,16 @@
 //!
 //! One pass (one path per pixel) of a 64×48 image from the scene's camera, all threads: the
 //! built-in default room `*22222` (H²×R, every wall a mirror of reflectance 0.9, a figure and a
-//! point light), and the default rooms of a spherical and a Euclidean orbifold.
+//! point light), and the default rooms of a spherical and a Euclidean orbifold. The denoiser
+//! over a 256×256 image of the default room (8 samples a pixel), which adaptive sampling for a
+//! denoised image also runs at rounds 4, 8, 16, ….
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use std::sync::atomic::AtomicBool;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use orbifold_render::camera::Camera;
+use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_scene::Scene;
@@ -49,5 +52,26 @@ fn passes(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, passes);
+fn denoiser(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    group.sample_size(10);
+    let scene = default_room("*22222");
+    let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let options = RenderOptions::new(256, 256, 8, 1);
+    let image = render(
+        &integrator,
+        &camera,
+        &options,
+        &AtomicBool::new(false),
+        &|_, _| {},
+    );
+    group.throughput(Throughput::Elements(256 * 256));
+    group.bench_function("denoise 256x256", |b| {
+        b.iter(|| denoise_with_reduction(&image.film, &image.guides, &DenoiseOptions::default()))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, passes, denoiser);
 criterion_main!(benches);

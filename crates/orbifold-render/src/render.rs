@@ -3,7 +3,8 @@
 //!
 //! **Adaptive sampling** (on by default): after [`WARMUP_ROUNDS`] rounds over the whole image,
 //! most rounds sample only the pixels whose noise on screen matters most, and every
-//! [`FULL_ROUND_EVERY`]th round is again over the whole image. A pixel's score is its squared
+//! [`FULL_ROUND_EVERY`]th round ([`FULL_ROUND_EVERY_DENOISED`]th for a denoised image) is
+//! again over the whole image. A pixel's score is its squared
 //! display error ([`Film::display_errors`]), taken as the largest in its 3×3 neighbourhood so
 //! that a pixel whose few samples happened to agree is not left out:
 //!
@@ -67,6 +68,9 @@ pub struct RenderOptions {
 pub const WARMUP_ROUNDS: u32 = 4;
 /// With adaptive sampling, every this many rounds one is over the whole image.
 pub const FULL_ROUND_EVERY: u32 = 8;
+/// With adaptive sampling for a denoised image, every this many rounds one is over the whole
+/// image: the surfaces that the filter smooths still need samples enough for its estimates.
+pub const FULL_ROUND_EVERY_DENOISED: u32 = 4;
 /// With adaptive sampling for a denoised image, the most samples a pixel gets in one round.
 pub const MOST_SAMPLES_PER_ROUND: u32 = 16;
 
@@ -247,9 +251,14 @@ impl<'a> Progressive<'a> {
         if pixels == 0 {
             return;
         }
+        let full_every = if options.denoised {
+            FULL_ROUND_EVERY_DENOISED
+        } else {
+            FULL_ROUND_EVERY
+        };
         let adaptive_round = options.adaptive
             && self.rounds >= WARMUP_ROUNDS
-            && !self.rounds.is_multiple_of(FULL_ROUND_EVERY);
+            && !self.rounds.is_multiple_of(full_every);
         let refresh = options.adaptive && options.denoised && self.rounds >= WARMUP_ROUNDS;
         if refresh && self.rounds.is_power_of_two() {
             let (_, reduction) =
