@@ -16,6 +16,7 @@ use num_complex::Complex64;
 use orbifold::space::Space;
 use orbifold_scene::{Camera as CameraSettings, CameraKind};
 
+use crate::footprint::Footprint;
 use crate::geodesic::Ray;
 
 /// A camera placed in a plane of curvature κ.
@@ -75,7 +76,36 @@ impl Camera {
             (f64::from(i) + offset.0) / f64::from(width),
             (f64::from(j) + offset.1) / f64::from(height),
         );
-        let local = match self.kind {
+        self.ray_along(self.local_direction(u, v, width, height))
+    }
+
+    /// The angular size of pixel (i, j): the angles between the directions through the middles
+    /// of its opposite sides (what [`crate::footprint`] carries along its rays).
+    ///
+    /// ```
+    /// use orbifold::{Geometry, space::Space};
+    /// use orbifold_render::camera::Camera;
+    /// use orbifold_scene::Camera as Settings;
+    /// let settings = Settings { fov: 90.0, ..Settings::default() };
+    /// let camera = Camera::new(Space::new(Geometry::Euclidean), &settings);
+    /// // At the middle of a 100×100 image a pixel is 2·tan 45°/100 radians wide, nearly.
+    /// let f = camera.footprint(50, 50, 100, 100);
+    /// assert!((f.across - 0.02).abs() < 1e-4 && (f.up - 0.02).abs() < 1e-4);
+    /// ```
+    pub fn footprint(&self, i: u32, j: u32, width: u32, height: u32) -> Footprint {
+        let (w, h) = (f64::from(width), f64::from(height));
+        let (u, v) = ((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
+        let angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
+        let at = |u: f64, v: f64| self.local_direction(u, v, width, height);
+        Footprint {
+            across: angle(at(u - 0.5 / w, v), at(u + 0.5 / w, v)),
+            up: angle(at(u, v - 0.5 / h), at(u, v + 0.5 / h)),
+        }
+    }
+
+    /// The unit direction (local frame) through the image point (u, v) ∈ [0, 1]².
+    fn local_direction(&self, u: f64, v: f64, width: u32, height: u32) -> DVec3 {
+        match self.kind {
             CameraKind::Pinhole => {
                 let aspect = f64::from(width) / f64::from(height);
                 let a = (2.0 * u - 1.0) * self.tan_half_fov * aspect;
@@ -91,8 +121,7 @@ impl Camera {
                     elevation.sin(),
                 )
             }
-        };
-        self.ray_along(local)
+        }
     }
 
     /// The ray from the eye along a direction of the local frame (model +x, model +y, up).

@@ -20,6 +20,7 @@ use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
 use crate::bsdf::{Bsdf, marble};
 use crate::flat::{flatten_light, flatten_tracer};
+use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use crate::geodesic::Ray;
 use crate::light::{
     Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
@@ -54,6 +55,10 @@ pub struct Settings {
     /// Light as if space were flat: the room's model picture rendered with straight rays (see
     /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
     pub straight_rays: bool,
+    /// Count the light's mirror images that are smaller than a pixel by the share of the pixel
+    /// they cover, not by ray hits ([`crate::footprint`]; on by default). It needs the room's
+    /// mirrors to be isometries, so straight rays never use it.
+    pub pixel_footprint: bool,
 }
 
 impl Default for Settings {
@@ -63,6 +68,7 @@ impl Default for Settings {
             nee: true,
             glow: [0.0; 3],
             straight_rays: false,
+            pixel_footprint: true,
         }
     }
 }
@@ -295,6 +301,12 @@ struct March {
     ray: Ray,
     /// Arc length along `ray` to the end.
     rest: f64,
+    /// Light of sphere lights whose images were smaller than the footprint, passed on the way
+    /// (with the mirrors' reflectances up to each).
+    glimpsed: Rgb,
+    /// The sphere light the march ended on, when its image was smaller than the footprint:
+    /// already counted in `glimpsed`.
+    glimpsed_end: Option<usize>,
 }
 
 /// What a camera path saw first — the first surface that is not a mirror — as guides for the
@@ -339,6 +351,8 @@ pub struct Integrator {
     objects: Vec<Look>,
     centre: DVec3,
     centre_frame: TangentFrame,
+    /// The sphere lights (index, as the footprint sees them, radiance).
+    spheres: Vec<(usize, Sphere, Rgb)>,
 }
 
 fn luminance(c: Rgb) -> f64 {
@@ -409,9 +423,39 @@ impl Integrator {
             entries: Vec::new(),
             distribution: None,
             near: Vec::new(),
+            spheres: Vec::new(),
         };
+        if settings.pixel_footprint && !settings.straight_rays {
+            integrator.spheres = integrator.footprint_spheres();
+        }
         integrator.build_light_distribution(scene.room.height);
         Ok(integrator)
+    }
+
+    /// The sphere lights with their clearance from the walls, the floor and the ceiling.
+    fn footprint_spheres(&self) -> Vec<(usize, Sphere, Rgb)> {
+        let space = self.space();
+        let room = &self.tracer.room;
+        self.lights
+            .iter()
+            .enumerate()
+            .filter_map(|(l, light)| {
+                let (radius, radiance) = light.sphere()?;
+                let clearance = room
+                    .walls
+                    .iter()
+                    .map(|w| space.asin(w.form.dot(light.position)).abs())
+                    .fold(f64::INFINITY, f64::min);
+                let sphere = Sphere {
+                    centre: light.position,
+                    height: light.height,
+                    radius,
+                    clearance,
+                    headroom: light.height.min(room.height - light.height),
+                };
+                Some((l, sphere, radiance))
+            })
+            .collect()
     }
 
     /// The light sampler's choices and weights: power × image reflectance / J(distance of the
@@ -608,12 +652,16 @@ impl Integrator {
     /// whose throughput falls below `ROULETTE_LEVEL` after a mirror goes on with probability
     /// ∝ its throughput and is weighted up when it does (Russian roulette: unbiased, and long
     /// chains of dim reflections stop early).
+    ///
+    /// With a `footprint` (a camera ray's pixel), sphere lights whose images are smaller than the
+    /// footprint are counted by the share of it that they cover ([`crate::footprint`]).
     fn march(
         &self,
         ray: &Ray,
         length: f64,
         skip: Option<usize>,
         mut roulette: Option<(&mut Sampler, f64)>,
+        footprint: Option<&Footprint>,
     ) -> March {
         let space = self.space();
         let mut march = March {
@@ -623,11 +671,17 @@ impl Integrator {
             length: 0.0,
             ray: *ray,
             rest: 0.0,
+            glimpsed: [0.0; 3],
+            glimpsed_end: None,
         };
         for _ in 0..=MAX_MIRROR_BOUNCES {
             let remaining = length - march.length;
             let near = self.nearest(&march.ray, skip);
-            let Some(near) = near.filter(|n| n.s < remaining) else {
+            let near = near.filter(|n| n.s < remaining);
+            if let Some(footprint) = footprint {
+                self.glimpse(&mut march, footprint, near.as_ref(), remaining);
+            }
+            let Some(near) = near else {
                 if remaining.is_finite() {
                     march.end = MarchEnd::Reached;
                     march.rest = remaining;
@@ -669,6 +723,42 @@ impl Integrator {
             march.ray = march.ray.advanced(space, near.s).reflected(space, form);
         }
         march
+    }
+
+    /// Adds to `march.glimpsed` the sphere lights smaller than the footprint near the stretch of
+    /// `march.ray` up to `near` (or to `remaining`).
+    fn glimpse(
+        &self,
+        march: &mut March,
+        footprint: &Footprint,
+        near: Option<&Near>,
+        remaining: f64,
+    ) {
+        let space = self.space();
+        let end = near.map_or(remaining, |n| n.s);
+        for &(l, ref sphere, radiance) in &self.spheres {
+            let struck =
+                matches!(near, Some(Near { struck: Struck::Light(hit, ..), .. }) if *hit == l);
+            let slack = if struck { 2.0 * sphere.radius } else { 0.0 };
+            let glimpse = sphere_coverage(
+                space,
+                &march.ray,
+                march.length,
+                footprint,
+                sphere,
+                end,
+                slack,
+            );
+            if let Glimpse::Covered(share) = glimpse {
+                add(
+                    &mut march.glimpsed,
+                    scale(mul(march.throughput, radiance), share),
+                );
+                if struck {
+                    march.glimpsed_end = Some(l);
+                }
+            }
+        }
     }
 
     /// The unit normal (local coordinates in `frame`) and the BSDF where a march ended.
@@ -781,7 +871,7 @@ impl Integrator {
             .triangle
             .is_some_and(|(t, _)| light.reaches_unobstructed(space, t, from))
             .then_some(entry.light);
-        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, skip, None);
+        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, skip, None, None);
         if march.end != MarchEnd::Reached {
             return [0.0; 3];
         }
@@ -857,6 +947,18 @@ impl Integrator {
     /// The radiance arriving along a camera ray (one path sample) and the first surface that is
     /// not a mirror.
     pub fn sample(&self, ray: &Ray, sampler: &mut Sampler) -> PathSample {
+        self.sample_pixel(ray, None, sampler)
+    }
+
+    /// [`Integrator::sample`] for a camera ray that carries its pixel's footprint: sphere lights
+    /// whose mirror images are smaller than the pixel are counted by the share of the pixel
+    /// they cover, not by the ray's hit or miss ([`crate::footprint`]; what renders use).
+    pub fn sample_pixel(
+        &self,
+        ray: &Ray,
+        footprint: Option<Footprint>,
+        sampler: &mut Sampler,
+    ) -> PathSample {
         let space = self.space();
         let mut first: Option<FirstHit> = None;
         let mut radiance = [0.0; 3];
@@ -869,7 +971,10 @@ impl Integrator {
         let mut depth = 0;
         loop {
             let roulette = Some((&mut *sampler, luminance(beta)));
-            let march = self.march(&ray, f64::INFINITY, None, roulette);
+            // The pixel's footprint is carried from the camera through mirrors only.
+            let carried = footprint.as_ref().filter(|_| first.is_none());
+            let march = self.march(&ray, f64::INFINITY, None, roulette, carried);
+            add(&mut radiance, mul(beta, march.glimpsed));
             beta = mul(beta, march.throughput);
             let MarchEnd::Hit(near) = march.end else {
                 break;
@@ -885,6 +990,9 @@ impl Integrator {
                 });
             }
             if let Struck::Light(l, triangle, w) = near.struck {
+                if march.glimpsed_end == Some(l) {
+                    break;
+                }
                 let Some(n) = self.light_normal(l, triangle, w, &frame) else {
                     break;
                 };

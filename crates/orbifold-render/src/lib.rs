@@ -17,6 +17,7 @@ pub mod bvh;
 pub mod denoise;
 mod fastmath;
 pub mod flat;
+pub mod footprint;
 pub mod instance;
 pub mod integrator;
 pub mod light;

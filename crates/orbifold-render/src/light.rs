@@ -629,6 +629,19 @@ impl Light {
             .collect()
     }
 
+    /// For a sphere light: the radius of its mesh's outline and its radiance (what
+    /// [`crate::footprint`] needs); `None` for other lights.
+    pub fn sphere(&self) -> Option<(f64, Rgb)> {
+        match &self.emitter {
+            Emitter::Area {
+                radiance,
+                facing: Some(facing),
+                ..
+            } => Some((facing.radius, *radiance)),
+            _ => None,
+        }
+    }
+
     /// Whether the light is a point (delta) light.
     pub fn is_point(&self) -> bool {
         !matches!(self.emitter, Emitter::Area { .. })

@@ -284,7 +284,8 @@ impl<'a> Progressive<'a> {
             let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(index));
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
-            integrator.sample(&ray, &mut sampler)
+            let footprint = camera.footprint(i, j, width, height);
+            integrator.sample_pixel(&ray, Some(footprint), &mut sampler)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
         let results: Vec<(u64, PathSample)> = match &chosen {

@@ -68,6 +68,8 @@ fn image(scene: &Scene, straight_rays: bool) -> Film {
         max_depth: 3,
         nee: false,
         straight_rays,
+        // Straight rays never carry the pixel's footprint: compare like with like.
+        pixel_footprint: false,
         ..Settings::default()
     };
     render_scene(scene, None, settings, &RenderOptions::new(12, 8, 16, 3))

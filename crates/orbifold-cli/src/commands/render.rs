@@ -94,6 +94,7 @@ pub(crate) fn settings_and_options(
         nee: !args.no_nee,
         glow: [args.glow.unwrap_or(0.0); 3],
         straight_rays: args.straight_rays,
+        pixel_footprint: !args.no_footprint,
     };
     let (width, height) = args
         .size

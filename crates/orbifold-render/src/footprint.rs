@@ -1,0 +1,347 @@
+//! A pixel's footprint carried along its camera ray through the mirrors, and what it does for
+//! the tiny mirror images of sphere lights (DESIGN.md §8; docs/rendering.md).
+//!
+//! In a mirror room the camera sees a crowd of light images, most of them smaller than a pixel
+//! (thousands of them in a hyperbolic room). A camera ray either hits such an image or misses it,
+//! so a pixel that holds one gets a few rays of enormous radiance among many dark ones: the
+//! worst noise of the image, and too sparse for a denoiser. Instead each camera ray carries its
+//! pixel's footprint — a rectangle across the ray, one pixel wide — and a sphere light whose
+//! image is smaller than the footprint adds its radiance times the share of the footprint that
+//! the sphere covers ([`sphere_coverage`]), whether the ray's centre line hits it or not. The
+//! pixel's mean is the same (the light image is blurred by one more pixel, as a box filter
+//! would); its variance over the pixel's samples nearly vanishes. Larger images are left to the
+//! ray hits, which already resolve them.
+//!
+//! **Widths.** Walls are totally geodesic and the vertical plane over a horizontal geodesic is
+//! flat, so a ray's neighbours separate like Jacobi fields of the two factors: a turn ε across
+//! the ray (horizontally) moves the point at arc length s by ε·|S_κ(s cos α)|/cos α, a turn ε
+//! in the vertical plane by ε·s. Mirrors are isometries and keep both.
+//!
+//! **Where images are found.** A march keeps the ray in the room, folding it at every mirror,
+//! and so meets only the light's images in the copies of the room that the ray crosses; and a
+//! ray that ends on the floor or the ceiling before it passes the light cannot count it. So the
+//! footprint is capped where it could reach past a wall, the floor or the ceiling: at twice
+//! the light's clearance from them, less the light's size. The pixel's mean does not depend on
+//! the widths as long as they are at most the true spread of the pixel's rays (the covered
+//! share integrates to the light's area over the footprint's); capped widths only leave more
+//! variance.
+//!
+//! **Coverage.** Near the light the metric is that of flat space to within the light's size.
+//! The sphere's outline across the ray, a disc of radius r, is replaced by the square of the
+//! same area (side r√π), so that the covered share of the footprint is a product of two
+//! interval overlaps: exact in area, smooth in the offset, and cheap.
+
+use glam::DVec3;
+use orbifold::space::Space;
+
+use crate::fastmath::asinh_fast;
+use crate::geodesic::Ray;
+
+/// The angular size of a pixel seen from the camera: its width across (horizontally) and its
+/// height (in the vertical plane of the ray), in radians.
+///
+/// ```
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::footprint::Footprint;
+/// let footprint = Footprint { across: 1e-3, up: 1e-3 };
+/// let e2 = Space::new(Geometry::Euclidean);
+/// // In flat space both widths grow linearly with distance.
+/// let (w, h) = footprint.widths(e2, 10.0, 0.8);
+/// assert!((w - 1e-2).abs() < 1e-15 && (h - 1e-2).abs() < 1e-15);
+/// // In H² the width across grows like sinh: neighbouring rays diverge.
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// assert!(footprint.widths(h2, 10.0, 1.0).0 > 10.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    /// The pixel's width across the ray (radians).
+    pub across: f64,
+    /// The pixel's height in the ray's vertical plane (radians).
+    pub up: f64,
+}
+
+impl Footprint {
+    /// The footprint's widths (across, up) at arc length `s` from the camera along a ray whose
+    /// elevation has cosine `cos_elevation`.
+    pub fn widths(&self, space: Space, s: f64, cos_elevation: f64) -> (f64, f64) {
+        let ca = cos_elevation.abs();
+        let sigma = s * ca;
+        // S_κ(σ)/cos α → s as the ray turns vertical.
+        let spread = if sigma < 1e-6 {
+            s
+        } else {
+            space.sin(sigma).abs() / ca
+        };
+        (self.across * spread, self.up * s)
+    }
+}
+
+/// A sphere light as the footprint sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Ambient horizontal position of the centre.
+    pub centre: DVec3,
+    /// Height of the centre.
+    pub height: f64,
+    /// Radius of the outline.
+    pub radius: f64,
+    /// Horizontal distance from the centre to the nearest wall.
+    pub clearance: f64,
+    /// Vertical distance from the centre to the floor or the ceiling, whichever is nearer.
+    pub headroom: f64,
+}
+
+/// What a sphere light looks like to a camera ray along one straight stretch (between mirrors).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Glimpse {
+    /// The light's image is larger than the footprint there (or not near this stretch): ray hits
+    /// resolve it.
+    Unresolved,
+    /// The image is smaller than the footprint: this share of the footprint is the light.
+    Covered(f64),
+}
+
+/// The length of the overlap of [c − a/2, c + a/2] with [−w/2, w/2].
+fn overlap(c: f64, a: f64, w: f64) -> f64 {
+    ((c + 0.5 * a).min(0.5 * w) - (c - 0.5 * a).max(-0.5 * w)).max(0.0)
+}
+
+/// How much of the footprint of a camera ray covers a sphere light along the ray's stretch of
+/// arc length `[0, end]`, the ray having come `travelled` from the camera before it. The sphere
+/// counts only where its centre's closest approach lies on the stretch (to within `slack`: a
+/// stretch that ends on the sphere itself ends about a radius short of the centre).
+///
+/// ```
+/// use glam::DVec3;
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
+/// use orbifold_render::geodesic::Ray;
+/// let e2 = Space::new(Geometry::Euclidean);
+/// let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
+/// let footprint = Footprint { across: 0.01, up: 0.01 };
+/// // A sphere of radius 0.01 ten units ahead, where the footprint is 0.1 wide: its square of
+/// // side 0.01·√π covers π·0.01²/0.1² of it.
+/// let centre = DVec3::new(10.0, 0.0, 1.0);
+/// let far = f64::INFINITY;
+/// let sphere = Sphere { centre, height: 0.5, radius: 0.01, clearance: far, headroom: far };
+/// let Glimpse::Covered(c) = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 20.0, 0.0) else {
+///     panic!()
+/// };
+/// assert!((c - std::f64::consts::PI * 1e-2).abs() < 1e-9);
+/// ```
+pub fn sphere_coverage(
+    space: Space,
+    ray: &Ray,
+    travelled: f64,
+    footprint: &Footprint,
+    sphere: &Sphere,
+    end: f64,
+    slack: f64,
+) -> Glimpse {
+    // The capped footprint reaches at most `clearance` across from the ray's centre line.
+    let Some(Approach {
+        s,
+        across: lateral,
+        up: vertical,
+    }) = closest_approach(space, ray, sphere.centre, sphere.height, sphere.clearance)
+    else {
+        return Glimpse::Unresolved;
+    };
+    if !(s >= 0.0 && s <= end + slack) {
+        return Glimpse::Unresolved;
+    }
+    let side = sphere.radius * std::f64::consts::PI.sqrt();
+    let (across, up) = footprint.widths(space, travelled + s, ray.cos_elevation);
+    let across = across.min(2.0 * sphere.clearance - side);
+    let up = up.min(2.0 * sphere.headroom - side);
+    // (NaN widths count as too small.)
+    if side >= across.max(up) || across.max(up).is_nan() {
+        return Glimpse::Unresolved;
+    }
+    let share = overlap(lateral, side, across) * overlap(vertical, side, up) / (across * up);
+    Glimpse::Covered(if share.is_finite() { share } else { 0.0 })
+}
+
+/// Where a ray passes closest to a point, to first order in the offsets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Approach {
+    /// The ray's arc length there.
+    pub(crate) s: f64,
+    /// The point's signed offset across the ray (horizontal, to the left).
+    pub(crate) across: f64,
+    /// Its signed offset in the ray's vertical plane, perpendicular to the ray (upwards).
+    pub(crate) up: f64,
+}
+
+/// The closest approach of a ray to the point (`centre`, `height`): the foot of the horizontal
+/// perpendicular (S(d⊥) = ⟨c − p, v⟩ across the horizontal geodesic, C(d⊥)·S(σ) = ⟨c − p, u⟩
+/// along it), then the nearest point in the flat vertical plane over the geodesic. `None` when
+/// the point is `within` or farther across (tested before the costlier part).
+pub(crate) fn closest_approach(
+    space: Space,
+    ray: &Ray,
+    centre: DVec3,
+    height: f64,
+    within: f64,
+) -> Option<Approach> {
+    let k = space.kappa();
+    let (ca, sa) = (ray.cos_elevation, ray.sin_elevation);
+    let p = ray.origin;
+    let u = ray.direction;
+    let v = space.quarter_turn(p, u);
+    // S(d⊥) = ⟨c − p, v⟩ across the horizontal geodesic, C(d⊥)·S(σ_c) = ⟨c − p, u⟩ along it.
+    let d = centre - p;
+    let gamma = space.point_dot(d, v);
+    let along = space.point_dot(d, u);
+    // A camera ray meets the light in a few of its stretches: the fast logarithm for the rest.
+    let lateral = if k < 0.0 {
+        asinh_fast(gamma)
+    } else {
+        space.asin(gamma)
+    };
+    if lateral.abs() >= within || lateral.is_nan() {
+        return None;
+    }
+    let m = (1.0 - k * gamma * gamma).max(0.0).sqrt();
+    let sigma = if k > 0.0 {
+        along.atan2(space.point_dot(centre, p) / k)
+    } else if k == 0.0 {
+        along
+    } else {
+        asinh_fast(along / m)
+    };
+    let rise = height - ray.height;
+    Some(Approach {
+        s: sigma * ca + rise * sa,
+        across: lateral,
+        up: rise * ca - sigma * sa,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use orbifold::Geometry;
+    use proptest::prelude::*;
+
+    const GEOMETRIES: [Geometry; 3] = [
+        Geometry::Spherical,
+        Geometry::Euclidean,
+        Geometry::Hyperbolic,
+    ];
+
+    proptest! {
+        /// The covered share, integrated over the ray's offsets across the footprint, is the
+        /// sphere's square's area divided by the footprint's: the mean of a pixel is kept. The
+        /// offsets are those of parallel rays: translating the ray sideways (across, in E²) and
+        /// up.
+        #[test]
+        fn coverage_integrates_to_the_sphere_s_share(
+            r in 0.001f64..0.05, distance in 1.0f64..20.0, pixel in 0.005f64..0.02,
+        ) {
+            let e2 = Space::new(Geometry::Euclidean);
+            let footprint = Footprint { across: pixel, up: pixel };
+            let width = pixel * distance;
+            prop_assume!(r * std::f64::consts::PI.sqrt() < width);
+            let n = 64;
+            let mut total = 0.0;
+            for i in 0..n {
+                for j in 0..n {
+                    // Offsets over a square of twice the footprint's width.
+                    let dy = (f64::from(i) + 0.5) / f64::from(n) * 2.0 * width - width;
+                    let dz = (f64::from(j) + 0.5) / f64::from(n) * 2.0 * width - width;
+                    let ray = Ray::new(e2, DVec3::new(0.0, dy, 1.0), DVec3::X, 0.5 + dz, 0.0);
+                    let centre = DVec3::new(distance, 0.0, 1.0);
+                    let sphere = Sphere { centre, height: 0.5, radius: r, clearance: f64::INFINITY, headroom: f64::INFINITY };
+                    match sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 100.0, 0.0) {
+                        Glimpse::Covered(c) => total += c,
+                        Glimpse::Unresolved => prop_assert!(false, "resolved by the footprint"),
+                    }
+                }
+            }
+            let cell = (2.0 * width / f64::from(n)).powi(2);
+            let expected = std::f64::consts::PI * r * r;
+            prop_assert!((total * cell - expected).abs() < 0.02 * expected, "{} vs {}", total * cell, expected);
+        }
+
+        /// The closest approach found in every geometry is the true one: at the arc length
+        /// where a numerical search finds the ray nearest the point, with the offsets it was
+        /// placed at.
+        #[test]
+        fn closest_approach_is_where_the_centre_is_nearest(
+            g in 0usize..3, x in -0.4f64..0.4, y in -0.4f64..0.4, yaw in 0.0f64..std::f64::consts::TAU,
+            pitch in -0.6f64..0.6, ahead in 0.2f64..1.0, off in -0.02f64..0.02, lift in -0.02f64..0.02,
+        ) {
+            use num_complex::Complex64;
+            let space = Space::new(GEOMETRIES[g]);
+            let ray = Ray::from_model(space, Complex64::new(x, y) * 0.5, 0.5, yaw, pitch);
+            // A centre near the ray's point at arc length `ahead`, nudged across and up.
+            let (q, h) = ray.point_at(space, ahead);
+            let across = space.quarter_turn(q, ray.tangent_at(space, ahead * ray.cos_elevation));
+            let centre = space.exp(q, across * off);
+            let height = h + lift;
+            let approach = closest_approach(space, &ray, centre, height, 1.0).unwrap();
+            let distance = |s: f64| {
+                let (p, hp) = ray.point_at(space, s);
+                space.ambient_distance(p, centre).hypot(hp - height)
+            };
+            // Arc length of the closest approach, by golden-section search.
+            let (mut lo, mut hi) = (0.0, 2.0);
+            for _ in 0..200 {
+                let a = lo + 0.382 * (hi - lo);
+                let b = lo + 0.618 * (hi - lo);
+                if distance(a) < distance(b) { hi = b } else { lo = a }
+            }
+            let nearest = 0.5 * (lo + hi);
+            let size = off.hypot(lift);
+            prop_assert!((approach.s - nearest).abs() < 1e-3 + 0.05 * size, "{:?} at {}", approach, nearest);
+            // Placed `off` to the left (J u) and `lift` up, seen across the tilted ray.
+            prop_assert!((approach.across - off).abs() < 0.05 * size + 1e-9, "{:?}", approach);
+            let up = lift * ray.cos_elevation;
+            prop_assert!((approach.up - up).abs() < 0.05 * size + 1e-9, "{:?} vs {}", approach, up);
+        }
+    }
+
+    #[test]
+    fn a_large_image_is_left_to_ray_hits() {
+        let e2 = Space::new(Geometry::Euclidean);
+        let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
+        let footprint = Footprint {
+            across: 1e-3,
+            up: 1e-3,
+        };
+        let centre = DVec3::new(2.0, 0.0, 1.0);
+        let sphere = Sphere {
+            centre,
+            height: 0.5,
+            radius: 0.05,
+            clearance: f64::INFINITY,
+            headroom: f64::INFINITY,
+        };
+        let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 10.0, 0.0);
+        assert_eq!(glimpse, Glimpse::Unresolved);
+    }
+
+    #[test]
+    fn a_light_behind_or_past_the_stretch_is_not_seen() {
+        let e2 = Space::new(Geometry::Euclidean);
+        let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
+        let footprint = Footprint {
+            across: 0.1,
+            up: 0.1,
+        };
+        let behind = DVec3::new(-2.0, 0.0, 1.0);
+        let past = DVec3::new(5.0, 0.0, 1.0);
+        for centre in [behind, past] {
+            let sphere = Sphere {
+                centre,
+                height: 0.5,
+                radius: 0.01,
+                clearance: f64::INFINITY,
+                headroom: f64::INFINITY,
+            };
+            let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 3.0, 0.0);
+            assert_eq!(glimpse, Glimpse::Unresolved);
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! Camera rays that carry their pixel's footprint (`orbifold_render::footprint`): the tiny mirror
+//! images of a sphere light are counted by the share of the pixel they cover. The image's mean
+//! must not change, and its noise must fall.
+
+use orbifold_render::camera::Camera;
+use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::sampler::Sampler;
+use orbifold_scene::{LightKind, Scene};
+
+/// A room of `signature` whose walls are all mirrors, with a small sphere light near the
+/// ceiling, seen by a camera that looks along the room so that the light's images shrink below
+/// a pixel towards the horizon.
+fn scene(signature: &str) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    scene.objects.clear();
+    let layout = scene.layout().unwrap();
+    let c = [layout.centre.re, layout.centre.im];
+    scene.room.reflectance = [0.9; 3];
+    let light = &mut scene.lights[0];
+    light.kind = LightKind::Sphere;
+    light.at = c;
+    light.height = 0.8;
+    light.radius = 0.1;
+    light.power = 10.0;
+    scene.camera.at = [c[0] + 0.05, c[1] + 0.03];
+    scene.camera.height = 0.5;
+    scene.camera.pitch = 5.0;
+    scene.camera.fov = 60.0;
+    scene
+}
+
+fn luminance(c: [f64; 3]) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// Per pixel of a `size`×`size` image: the mean of `n` samples and their variance, with or
+/// without the footprint (the same sub-pixel positions and random numbers both ways).
+fn pixels(scene: &Scene, size: u32, n: u64, footprint: bool) -> Vec<(f64, f64)> {
+    let settings = Settings {
+        max_depth: 1,
+        ..Settings::default()
+    };
+    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    (0..size * size)
+        .map(|p| {
+            let (i, j) = (p % size, p / size);
+            let values: Vec<f64> = (0..n)
+                .map(|k| {
+                    let mut sampler = Sampler::stratified(3, u64::from(p), k);
+                    let ray = camera.ray(i, j, size, size, sampler.next_2d());
+                    let f = footprint.then(|| camera.footprint(i, j, size, size));
+                    luminance(integrator.sample_pixel(&ray, f, &mut sampler).radiance)
+                })
+                .collect();
+            let mean = values.iter().sum::<f64>() / n as f64;
+            let variance =
+                values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n as f64 - 1.0);
+            (mean, variance)
+        })
+        .collect()
+}
+
+#[test]
+fn tiny_light_images_keep_the_image_s_mean_and_lose_their_noise() {
+    // Euclidean and hyperbolic rooms (a spherical room has few, large images).
+    for signature in ["*2222", "*444"] {
+        let scene = scene(signature);
+        let (size, n) = (6, 512);
+        let hits = pixels(&scene, size, n, false);
+        let covered = pixels(&scene, size, n, true);
+        let total = |p: &[(f64, f64)]| p.iter().map(|(m, _)| m).sum::<f64>();
+        let error = |p: &[(f64, f64)]| (p.iter().map(|(_, v)| v).sum::<f64>() / n as f64).sqrt();
+        let (a, ea) = (total(&hits), error(&hits));
+        let (b, eb) = (total(&covered), error(&covered));
+        assert!(a > 0.0, "{signature}: the light is seen");
+        assert!(
+            (a - b).abs() < 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * a,
+            "{signature}: hits {a} ± {ea}, footprint {b} ± {eb}"
+        );
+        // The variance summed over pixels: the images' hit-or-miss noise is gone.
+        let variance = |p: &[(f64, f64)]| p.iter().map(|(_, v)| v).sum::<f64>();
+        assert!(
+            variance(&covered) < 0.5 * variance(&hits),
+            "{signature}: variance {} with the footprint, {} without",
+            variance(&covered),
+            variance(&hits)
+        );
+    }
+}
