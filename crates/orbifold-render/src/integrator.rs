@@ -140,9 +140,9 @@ impl Texture {
         })
     }
 
-    /// The albedo at surface coordinates (u, v, w) (model or intrinsic as chosen by the caller
-    /// through `model` and `intrinsic`).
-    fn albedo(&self, model: [f64; 3], intrinsic: impl FnOnce() -> [f64; 3]) -> Rgb {
+    /// The albedo where `lookup` says. A checkerboard seen by a camera ray is averaged over the
+    /// pixel's footprint (a box filter, in closed form); other patterns are point-sampled.
+    fn albedo(&self, lookup: &Lookup) -> Rgb {
         match self {
             Texture::Solid(c) => *c,
             Texture::Checker {
@@ -150,9 +150,23 @@ impl Texture {
                 size,
                 intrinsic: use_intrinsic,
             } => {
-                let p = if *use_intrinsic { intrinsic() } else { model };
-                let parity: i64 = p.iter().map(|v| (v / size).floor() as i64).sum();
-                colors[parity.rem_euclid(2) as usize]
+                let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
+                let Some([a, b]) = lookup.footprint else {
+                    let parity: i64 = p.iter().map(|v| (v / size).floor() as i64).sum();
+                    return colors[parity.rem_euclid(2) as usize];
+                };
+                let (pa, pb) = (
+                    (lookup.coords)(*use_intrinsic, a),
+                    (lookup.coords)(*use_intrinsic, b),
+                );
+                let mut sign = 1.0;
+                for i in 0..3 {
+                    // The box around ±a ± b in texture coordinates, axis by axis.
+                    let half = (pa[i] - p[i]).abs() + (pb[i] - p[i]).abs();
+                    sign *= box_filtered_square_wave(p[i] / size, 2.0 * half / size);
+                }
+                let (c0, c1) = (colors[0], colors[1]);
+                std::array::from_fn(|k| 0.5 * (c0[k] + c1[k]) + 0.5 * (c0[k] - c1[k]) * sign)
             }
             Texture::Image {
                 pixels,
@@ -161,7 +175,7 @@ impl Texture {
                 scale,
                 intrinsic: use_intrinsic,
             } => {
-                let p = if *use_intrinsic { intrinsic() } else { model };
+                let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
                 let u = (p[0] / scale).rem_euclid(1.0);
                 let v = (p[1] / scale).rem_euclid(1.0);
                 let i = ((u * *width as f64) as usize).min(width - 1);
@@ -169,6 +183,70 @@ impl Texture {
                 pixels[j * width + i]
             }
         }
+    }
+}
+
+/// The mean of the square wave (−1)^⌊t⌋ over [x − w/2, x + w/2] (its value at x when w = 0, or
+/// when the box is not finite: 0 then, the wave's mean): differences of its integral, the
+/// triangle wave.
+fn box_filtered_square_wave(x: f64, w: f64) -> f64 {
+    let integral = |t: f64| {
+        let m = t.rem_euclid(2.0);
+        if m < 1.0 { m } else { 2.0 - m }
+    };
+    if !(x.is_finite() && w.is_finite()) {
+        return 0.0;
+    }
+    if w < 1e-9 {
+        return if x.floor().rem_euclid(2.0) == 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+    }
+    ((integral(x + 0.5 * w) - integral(x - 0.5 * w)) / w).clamp(-1.0, 1.0)
+}
+
+/// Where a texture is looked up.
+struct Lookup<'a> {
+    /// The texture coordinates (intrinsic or model, as asked) of the point moved by a tangent
+    /// vector (local frame; zero for the point itself).
+    coords: &'a dyn Fn(bool, DVec3) -> [f64; 3],
+    /// For a camera ray's first surface: its pixel's footprint there, as two half-axes (local
+    /// frame) in the surface.
+    footprint: Option<[DVec3; 2]>,
+}
+
+/// A camera ray's pixel footprint where it meets its first surface.
+#[derive(Clone, Copy, Debug)]
+struct Spread {
+    /// Widths across the ray and up (perpendicular to it in its vertical plane).
+    widths: (f64, f64),
+    /// The ray's direction of travel (local frame).
+    travel: DVec3,
+}
+
+impl Spread {
+    /// The footprint's half-axes projected along the ray onto the plane with normal `n`, each
+    /// at most `MAX_FOOTPRINT` long (beyond, every pattern is averaged out anyway).
+    fn axes(&self, n: DVec3) -> [DVec3; 2] {
+        const MAX_FOOTPRINT: f64 = 10.0;
+        let d = self.travel;
+        let across = d.cross(DVec3::Z).try_normalize().unwrap_or(DVec3::X);
+        let up = across.cross(d);
+        let facing = n.dot(d);
+        let project = |v: DVec3| {
+            let p = if facing.abs() > 1e-6 {
+                v - d * (n.dot(v) / facing)
+            } else {
+                v
+            };
+            p.clamp_length_max(MAX_FOOTPRINT)
+        };
+        [
+            project(across * (0.5 * self.widths.0)),
+            project(up * (0.5 * self.widths.1)),
+        ]
     }
 }
 
@@ -216,17 +294,14 @@ impl Look {
         })
     }
 
-    /// The BSDF at a point with model coordinates `model` and intrinsic ones `intrinsic()`
-    /// (computed only when the pattern is laid out in them).
-    fn bsdf(&self, model: [f64; 3], intrinsic: impl FnOnce() -> [f64; 3]) -> Bsdf {
+    /// The BSDF where `lookup` says.
+    fn bsdf(&self, lookup: &Lookup) -> Bsdf {
         match self {
-            Look::Diffuse(texture) => Bsdf::diffuse(texture.albedo(model, intrinsic)),
+            Look::Diffuse(texture) => Bsdf::diffuse(texture.albedo(lookup)),
             Look::Uniform(bsdf) => *bsdf,
-            Look::Plastic(texture, roughness) => {
-                Bsdf::plastic(texture.albedo(model, intrinsic), *roughness)
-            }
+            Look::Plastic(texture, roughness) => Bsdf::plastic(texture.albedo(lookup), *roughness),
             Look::Marble(ground, vein, scale, use_intrinsic) => {
-                let p = if *use_intrinsic { intrinsic() } else { model };
+                let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
                 // `marble` takes a frequency; the scene gives the features' size.
                 Bsdf::diffuse(marble(DVec3::from(p), *ground, *vein, 1.0 / scale))
             }
@@ -761,25 +836,46 @@ impl Integrator {
         }
     }
 
-    /// The unit normal (local coordinates in `frame`) and the BSDF where a march ended.
-    fn surface(&self, near: &Near, frame: &TangentFrame) -> Option<(DVec3, Bsdf)> {
+    /// The unit normal (local coordinates in `frame`) and the BSDF where a march ended; with the
+    /// camera ray's `spread` there, textures are averaged over its pixel's footprint.
+    fn surface(
+        &self,
+        near: &Near,
+        frame: &TangentFrame,
+        spread: Option<&Spread>,
+    ) -> Option<(DVec3, Bsdf)> {
         let space = self.space();
-        let z = space.to_model(near.point);
-        let model = [z.re, z.im, near.height];
-        let intrinsic = || {
-            let v = space.log(self.centre, near.point);
-            [
-                space.point_dot(v, self.centre_frame.e1),
-                space.point_dot(v, self.centre_frame.e2),
-                near.height,
-            ]
+        let moved = |offset: DVec3| {
+            if offset == DVec3::ZERO {
+                return (near.point, near.height);
+            }
+            let (v, up) = frame.to_ambient(offset);
+            (space.exp(near.point, v), near.height + up)
+        };
+        let coords = |intrinsic: bool, offset: DVec3| {
+            let (x, h) = moved(offset);
+            if intrinsic {
+                let v = space.log(self.centre, x);
+                [
+                    space.point_dot(v, self.centre_frame.e1),
+                    space.point_dot(v, self.centre_frame.e2),
+                    h,
+                ]
+            } else {
+                let z = space.to_model(x);
+                [z.re, z.im, h]
+            }
+        };
+        let lookup = |n: DVec3| Lookup {
+            coords: &coords,
+            footprint: spread.map(|s| s.axes(n)),
         };
         match near.struck {
             Struck::Surface(SurfaceId::Floor, _) => {
-                Some((DVec3::Z, self.floor.bsdf(model, intrinsic)))
+                Some((DVec3::Z, self.floor.bsdf(&lookup(DVec3::Z))))
             }
             Struck::Surface(SurfaceId::Ceiling, _) => {
-                Some((-DVec3::Z, self.ceiling.bsdf(model, intrinsic)))
+                Some((-DVec3::Z, self.ceiling.bsdf(&lookup(-DVec3::Z))))
             }
             Struck::Surface(SurfaceId::Wall(w), _) => {
                 let room = &self.tracer.room;
@@ -787,9 +883,16 @@ impl Integrator {
                 let n = frame
                     .to_local(space, DVec3::new(nu.x, nu.y, space.kappa() * nu.z), 0.0)
                     .try_normalize()?;
-                let along = room.along(w, near.point) * room.walls[w].length;
-                let wall = [along, near.height, 0.0];
-                Some((n, self.walls[w].bsdf(wall, || wall)))
+                // Walls are laid out by (length along the wall, height).
+                let wall = |_: bool, offset: DVec3| {
+                    let (x, h) = moved(offset);
+                    [room.along(w, x) * room.walls[w].length, h, 0.0]
+                };
+                let lookup = Lookup {
+                    coords: &wall,
+                    footprint: spread.map(|s| s.axes(n)),
+                };
+                Some((n, self.walls[w].bsdf(&lookup)))
             }
             Struck::Surface(SurfaceId::Object(i), triangle) => {
                 let (triangle, barycentric) = triangle?;
@@ -801,7 +904,7 @@ impl Integrator {
                 let instance = &self.tracer.objects.instances()[i];
                 let (h, v) = instance.normal(space, &hit)?;
                 let n = frame.to_local(space, h, v).try_normalize()?;
-                Some((n, self.objects[i].bsdf(model, intrinsic)))
+                Some((n, self.objects[i].bsdf(&lookup(n))))
             }
             Struck::Light(..) => None,
         }
@@ -1007,7 +1110,11 @@ impl Integrator {
                 add(&mut radiance, scale(mul(beta, emitted), weight));
                 break;
             }
-            let Some((normal, bsdf)) = self.surface(&near, &frame) else {
+            let spread = carried.map(|f| Spread {
+                widths: f.widths(space, march.length, march.ray.cos_elevation),
+                travel,
+            });
+            let Some((normal, bsdf)) = self.surface(&near, &frame, spread.as_ref()) else {
                 break;
             };
             if !bsdf.is_transmissive() {
@@ -1079,5 +1186,48 @@ impl Integrator {
     /// The model point of the room's centre (for cameras and tests).
     pub fn centre(&self) -> Complex64 {
         self.tracer.layout.centre
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The box-filtered square wave is the mean of the wave over the box (midpoint rule
+        /// with 20 000 points), and stays in [−1, 1].
+        #[test]
+        fn the_filtered_checker_is_the_checker_s_mean(x in -5.0f64..5.0, w in 0.0f64..4.0) {
+            let n = 20_000;
+            let mean = (0..n)
+                .map(|i| {
+                    let t = x - 0.5 * w + w * (f64::from(i) + 0.5) / f64::from(n);
+                    if t.floor().rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 }
+                })
+                .sum::<f64>()
+                / f64::from(n);
+            let filtered = box_filtered_square_wave(x, w);
+            prop_assert!((filtered - mean).abs() < 1e-3 + 2e-4 / w.max(1e-9), "{} vs {}", filtered, mean);
+            prop_assert!((-1.0..=1.0).contains(&filtered));
+        }
+    }
+
+    #[test]
+    fn a_footprint_on_the_floor_stretches_along_a_grazing_ray() {
+        // A ray 10° below the horizon along +x meets the floor: the footprint's height becomes
+        // height / sin 10° along x, its width stays across (y).
+        let travel = DVec3::new(10f64.to_radians().cos(), 0.0, -10f64.to_radians().sin());
+        let spread = Spread {
+            widths: (0.02, 0.01),
+            travel,
+        };
+        let [a, b] = spread.axes(DVec3::Z);
+        assert!((a.length() - 0.01).abs() < 1e-12 && a.x.abs() < 1e-12 && a.z.abs() < 1e-12);
+        let along = 0.005 / 10f64.to_radians().sin();
+        assert!(
+            (b.length() - along).abs() < 1e-9 && b.z.abs() < 1e-12,
+            "{b}"
+        );
     }
 }
