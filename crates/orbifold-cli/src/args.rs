@@ -199,8 +199,8 @@ pub struct ImageArgs {
     /// Fig. 8.1a), to compare with the true geodesics.
     #[arg(long)]
     pub straight_rays: bool,
-    /// Count the light's mirror images that are smaller than a pixel by ray hits alone, not by
-    /// the share of the pixel they cover (noisier; for comparing with other renderers).
+    /// No pixel footprint: count the light's mirror images smaller than a pixel by ray hits
+    /// alone and point-sample checkerboards (noisier; for comparing with other renderers).
     #[arg(long)]
     pub no_footprint: bool,
     /// Denoise the image (the default for PNG and JPEG): an edge-avoiding filter guided by the

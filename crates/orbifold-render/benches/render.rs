@@ -4,14 +4,20 @@
 //! built-in default room `*22222` (H²×R, every wall a mirror of reflectance 0.9, a figure and a
 //! point light), and the default rooms of a spherical and a Euclidean orbifold. The denoiser
 //! over a 256×256 image of the default room (8 samples a pixel), which adaptive sampling for a
-//! denoised image also runs at rounds 4, 8, 16, ….
+//! denoised image also runs at rounds 4, 8, 16, …. The pixel footprint's test of a sphere light
+//! along one straight stretch of a camera ray (`footprint::sphere_coverage`, run for every
+//! stretch between mirrors), over 1 024 rays in each geometry.
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use std::sync::atomic::AtomicBool;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use orbifold::Geometry;
+use orbifold::space::Space;
 use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
+use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
+use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_scene::Scene;
@@ -73,5 +79,49 @@ fn denoiser(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, passes, denoiser);
+fn footprint(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    let footprint = Footprint {
+        across: 2e-3,
+        up: 2e-3,
+    };
+    for (name, geometry) in [
+        ("S2", Geometry::Spherical),
+        ("E2", Geometry::Euclidean),
+        ("H2", Geometry::Hyperbolic),
+    ] {
+        let space = Space::new(geometry);
+        // Rays from points of a small disc in every direction, slightly tilted.
+        let rays: Vec<Ray> = (0..1024)
+            .map(|i| {
+                let t = f64::from(i);
+                let z = num_complex::Complex64::from_polar(0.3 * (t * 0.618).fract(), t * 2.4);
+                Ray::from_model(space, z, 0.5, t * 0.37, 0.2 * (t * 0.31).sin())
+            })
+            .collect();
+        let sphere = Sphere {
+            centre: space.to_ambient(num_complex::Complex64::new(0.05, -0.02)),
+            height: 0.85,
+            radius: 0.05,
+            clearance: 0.4,
+            headroom: 0.15,
+        };
+        group.throughput(Throughput::Elements(rays.len() as u64));
+        group.bench_function(format!("sphere coverage {name}"), |b| {
+            b.iter(|| {
+                rays.iter()
+                    .map(|ray| {
+                        match sphere_coverage(space, ray, 3.0, &footprint, &sphere, 1.0, 0.0) {
+                            Glimpse::Covered(share) => share,
+                            Glimpse::Unresolved => 0.0,
+                        }
+                    })
+                    .sum::<f64>()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, passes, denoiser, footprint);
 criterion_main!(benches);

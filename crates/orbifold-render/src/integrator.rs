@@ -55,9 +55,10 @@ pub struct Settings {
     /// Light as if space were flat: the room's model picture rendered with straight rays (see
     /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
     pub straight_rays: bool,
-    /// Count the light's mirror images that are smaller than a pixel by the share of the pixel
-    /// they cover, not by ray hits ([`crate::footprint`]; on by default). It needs the room's
-    /// mirrors to be isometries, so straight rays never use it.
+    /// Carry each camera ray's pixel footprint ([`crate::footprint`]; on by default): the
+    /// light's mirror images smaller than a pixel count by the share of the pixel they cover,
+    /// not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
+    /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
 }
 
@@ -1063,6 +1064,8 @@ impl Integrator {
         sampler: &mut Sampler,
     ) -> PathSample {
         let space = self.space();
+        let footprint =
+            footprint.filter(|_| self.settings.pixel_footprint && !self.settings.straight_rays);
         let mut first: Option<FirstHit> = None;
         let mut radiance = [0.0; 3];
         let mut beta = [1.0; 3];
