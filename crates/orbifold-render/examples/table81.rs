@@ -1,10 +1,12 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
-//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--reference T]` (`--save`
+//! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
+//! [--reference T]` (`--save`
 //! writes the raw and denoised PNGs, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
-//! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--reference T`:
+//! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
+//! camera rays without their pixel's footprint; `--reference T`:
 //! also the error of the first
 //! image, raw and denoised, against a reference rendered for T seconds: the denoiser's bias
 //! shows there)
@@ -44,6 +46,7 @@ struct Args {
     save: Option<std::path::PathBuf>,
     uniform: bool,
     raw_target: bool,
+    no_footprint: bool,
     reference: Option<f64>,
 }
 
@@ -56,6 +59,7 @@ fn parse_args() -> Args {
         save: None,
         uniform: false,
         raw_target: false,
+        no_footprint: false,
         reference: None,
     };
     let default_mesh = concat!(
@@ -76,6 +80,7 @@ fn parse_args() -> Args {
             "--save" => args.save = Some(value().into()),
             "--uniform" => args.uniform = true,
             "--raw-target" => args.raw_target = true,
+            "--no-footprint" => args.no_footprint = true,
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             other => panic!("unknown argument {other}"),
         }
@@ -211,6 +216,7 @@ fn main() {
             None,
             Settings {
                 max_depth: 50,
+                pixel_footprint: !args.no_footprint,
                 ..Settings::default()
             },
         )

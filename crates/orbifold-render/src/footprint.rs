@@ -152,10 +152,19 @@ pub fn sphere_coverage(
     }
     let side = sphere.radius * std::f64::consts::PI.sqrt();
     let (across, up) = footprint.widths(space, travelled + s, ray.cos_elevation);
-    let across = across.min(2.0 * sphere.clearance - side);
-    let up = up.min(2.0 * sphere.headroom - side);
-    // (NaN widths count as too small.)
-    if side >= across.max(up) || across.max(up).is_nan() {
+    // (`f64::min` would turn a NaN width into the cap.)
+    let (across, up) = if across.is_nan() || up.is_nan() {
+        (0.0, 0.0)
+    } else {
+        (
+            across.min(2.0 * sphere.clearance - side),
+            up.min(2.0 * sphere.headroom - side),
+        )
+    };
+    // A footprint with no width (a panorama's pole; a cap at a light touching a wall) or NaN
+    // widths leaves the light to ray hits too.
+    let positive = across > 0.0 && up > 0.0;
+    if !positive || side >= across.max(up) {
         return Glimpse::Unresolved;
     }
     let share = overlap(lateral, side, across) * overlap(vertical, side, up) / (across * up);
@@ -319,6 +328,44 @@ mod tests {
             headroom: f64::INFINITY,
         };
         let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 10.0, 0.0);
+        assert_eq!(glimpse, Glimpse::Unresolved);
+    }
+
+    #[test]
+    fn a_footprint_without_width_leaves_the_light_to_ray_hits() {
+        let e2 = Space::new(Geometry::Euclidean);
+        let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
+        let centre = DVec3::new(10.0, 0.0, 1.0);
+        let sphere = Sphere {
+            centre,
+            height: 0.5,
+            radius: 0.01,
+            clearance: f64::INFINITY,
+            headroom: f64::INFINITY,
+        };
+        for footprint in [
+            Footprint {
+                across: 0.0,
+                up: 0.1,
+            },
+            Footprint {
+                across: f64::NAN,
+                up: 0.1,
+            },
+        ] {
+            let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 20.0, 0.0);
+            assert_eq!(glimpse, Glimpse::Unresolved, "{footprint:?}");
+        }
+        // A light touching a wall: the capped width is negative.
+        let touching = Sphere {
+            clearance: 0.005,
+            ..sphere
+        };
+        let footprint = Footprint {
+            across: 0.1,
+            up: 0.1,
+        };
+        let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &touching, 20.0, 0.0);
         assert_eq!(glimpse, Glimpse::Unresolved);
     }
 
