@@ -191,3 +191,29 @@ fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
         .code(2)
         .stderr(predicate::str::contains("cannot be used with"));
 }
+
+#[test]
+fn no_footprint_renders_without_the_pixel_footprint() {
+    // The default room's checkerboard floor is filtered over each pixel's footprint; without it
+    // the floor is point-sampled, so the same seed gives another image.
+    let (a, b) = (temp("footprint.png"), temp("no-footprint.png"));
+    let args = |out: &PathBuf| {
+        vec![
+            "-o".to_string(),
+            out.to_str().unwrap().to_string(),
+            "--size".into(),
+            "24x16".into(),
+            "--spp".into(),
+            "2".into(),
+            "--no-denoise".into(),
+        ]
+    };
+    let with: Vec<String> = args(&a);
+    let mut without = args(&b);
+    without.push("--no-footprint".into());
+    render(&with.iter().map(String::as_str).collect::<Vec<_>>());
+    render(&without.iter().map(String::as_str).collect::<Vec<_>>());
+    let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
+    assert_eq!((a.width(), a.height()), (b.width(), b.height()));
+    assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw());
+}
