@@ -27,6 +27,7 @@ use crate::light::{
     travel_direction,
 };
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
+use crate::texture::ImageTexture;
 use crate::tracer::{SurfaceId, Tracer};
 use crate::triangle::TriangleHit;
 
@@ -84,9 +85,7 @@ enum Texture {
         intrinsic: bool,
     },
     Image {
-        pixels: std::sync::Arc<Vec<Rgb>>,
-        width: usize,
-        height: usize,
+        image: ImageTexture,
         scale: f64,
         intrinsic: bool,
     },
@@ -128,10 +127,11 @@ impl Texture {
                     .pixels()
                     .map(|p| p.0.map(srgb_to_linear))
                     .collect::<Vec<_>>();
+                if width == 0 || height == 0 {
+                    return Err(format!("texture {} has no pixels", file.display()));
+                }
                 Texture::Image {
-                    pixels: std::sync::Arc::new(pixels),
-                    width,
-                    height,
+                    image: ImageTexture::new(pixels, width, height),
                     scale: *scale,
                     intrinsic: *coordinates == Coordinates::Intrinsic,
                 }
@@ -141,8 +141,9 @@ impl Texture {
         })
     }
 
-    /// The albedo where `lookup` says. A checkerboard seen by a camera ray is averaged over the
-    /// pixel's footprint (a box filter, in closed form); other patterns are point-sampled.
+    /// The albedo where `lookup` says. Seen by a camera ray, checkerboards and images are
+    /// averaged over the pixel's footprint (box filters: in closed form, and by a summed-area
+    /// table); marble is point-sampled.
     fn albedo(&self, lookup: &Lookup) -> Rgb {
         match self {
             Texture::Solid(c) => *c,
@@ -170,18 +171,21 @@ impl Texture {
                 std::array::from_fn(|k| 0.5 * (c0[k] + c1[k]) + 0.5 * (c0[k] - c1[k]) * sign)
             }
             Texture::Image {
-                pixels,
-                width,
-                height,
+                image,
                 scale,
                 intrinsic: use_intrinsic,
             } => {
                 let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
-                let u = (p[0] / scale).rem_euclid(1.0);
-                let v = (p[1] / scale).rem_euclid(1.0);
-                let i = ((u * *width as f64) as usize).min(width - 1);
-                let j = (((1.0 - v) * *height as f64) as usize).min(height - 1);
-                pixels[j * width + i]
+                let (u, v) = (p[0] / scale, p[1] / scale);
+                let Some([a, b]) = lookup.footprint else {
+                    return image.texel(u, v);
+                };
+                let (pa, pb) = (
+                    (lookup.coords)(*use_intrinsic, a),
+                    (lookup.coords)(*use_intrinsic, b),
+                );
+                let half = |i: usize| ((pa[i] - p[i]).abs() + (pb[i] - p[i]).abs()) / scale;
+                image.box_mean(u, v, half(0), half(1))
             }
         }
     }

@@ -22,6 +22,7 @@ pub mod instance;
 pub mod integrator;
 pub mod light;
 pub mod render;
+mod texture;
 pub mod tracer;
 pub mod triangle;
 

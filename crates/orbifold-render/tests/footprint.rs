@@ -5,7 +5,7 @@
 use orbifold_render::camera::Camera;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::sampler::Sampler;
-use orbifold_scene::{LightKind, Scene};
+use orbifold_scene::{Coordinates, LightKind, Material, Scene};
 
 /// A room of `signature` whose walls are all mirrors, with a small sphere light near the
 /// ceiling, seen by a camera that looks along the room so that the light's images shrink below
@@ -88,4 +88,58 @@ fn tiny_light_images_keep_the_image_s_mean_and_lose_their_noise() {
             variance(&hits)
         );
     }
+}
+
+#[test]
+fn an_image_of_a_checkerboard_is_filtered_like_the_checkerboard() {
+    // A 2×2 image of black and white laid out at twice the checker's size is the same pattern;
+    // filtered over the pixels' footprints (closed form for the checker, a summed-area table for
+    // the image) the two floors must render alike, far floor and all.
+    let dir = std::env::temp_dir().join(format!("orbifold-footprint-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("checker.png");
+    // Texel (i, j), row j from the top, is white when i + j is odd: the checker's colour 0 where
+    // ⌊x/size⌋ + ⌊y/size⌋ is even.
+    let image = image::RgbImage::from_fn(2, 2, |i, j| {
+        image::Rgb(if (i + j) % 2 == 1 { [255; 3] } else { [0; 3] })
+    });
+    image.save(&path).unwrap();
+    let mut checker = scene("*2222");
+    checker.camera.pitch = -10.0;
+    checker.room.floor = Material::Checker {
+        colors: [[1.0; 3], [0.0; 3]],
+        size: 0.1,
+        coordinates: Coordinates::Intrinsic,
+    };
+    let mut textured = checker.clone();
+    textured.room.floor = Material::Texture {
+        path: path.to_str().unwrap().into(),
+        scale: 0.2,
+        coordinates: Coordinates::Intrinsic,
+    };
+    let render = |scene: &Scene| {
+        let integrator = Integrator::from_scene(scene, None, Settings::default()).unwrap();
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let size = 16;
+        (0..size * size)
+            .map(|p| {
+                let (i, j) = (p % size, p / size);
+                let mut sampler = Sampler::stratified(5, u64::from(p), 0);
+                let ray = camera.ray(i, j, size, size, sampler.next_2d());
+                let f = Some(camera.footprint(i, j, size, size));
+                integrator.sample_pixel(&ray, f, &mut sampler).first.albedo
+            })
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (render(&checker), render(&textured));
+    // The first surface's albedo, filtered: the same wherever the floor is seen.
+    let alike = a
+        .iter()
+        .zip(&b)
+        .filter(|(x, y)| (0..3).all(|k| (x[k] - y[k]).abs() < 1e-6))
+        .count();
+    assert!(alike * 100 >= a.len() * 99, "{alike} of {} alike", a.len());
+    // Some pixels see the far floor as a blend, not black or white.
+    let grey = a.iter().filter(|c| c[0] > 0.05 && c[0] < 0.95).count();
+    assert!(grey > 0, "no filtered pixel");
 }
