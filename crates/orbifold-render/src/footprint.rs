@@ -311,48 +311,40 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_large_image_is_left_to_ray_hits() {
+    /// A level ray along +x from the origin of E² at height 0.5, and a sphere of `radius` at
+    /// (x, 0) on its line, with no walls, floor or ceiling near.
+    fn level(x: f64, radius: f64) -> (Space, Ray, Sphere) {
         let e2 = Space::new(Geometry::Euclidean);
         let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
-        let footprint = Footprint {
-            across: 1e-3,
-            up: 1e-3,
-        };
-        let centre = DVec3::new(2.0, 0.0, 1.0);
         let sphere = Sphere {
-            centre,
+            centre: DVec3::new(x, 0.0, 1.0),
             height: 0.5,
-            radius: 0.05,
+            radius,
             clearance: f64::INFINITY,
             headroom: f64::INFINITY,
         };
-        let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 10.0, 0.0);
+        (e2, ray, sphere)
+    }
+
+    fn square(width: f64) -> Footprint {
+        Footprint {
+            across: width,
+            up: width,
+        }
+    }
+
+    #[test]
+    fn a_large_image_is_left_to_ray_hits() {
+        let (e2, ray, sphere) = level(2.0, 0.05);
+        let glimpse = sphere_coverage(e2, &ray, 0.0, &square(1e-3), &sphere, 10.0, 0.0);
         assert_eq!(glimpse, Glimpse::Unresolved);
     }
 
     #[test]
     fn a_footprint_without_width_leaves_the_light_to_ray_hits() {
-        let e2 = Space::new(Geometry::Euclidean);
-        let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
-        let centre = DVec3::new(10.0, 0.0, 1.0);
-        let sphere = Sphere {
-            centre,
-            height: 0.5,
-            radius: 0.01,
-            clearance: f64::INFINITY,
-            headroom: f64::INFINITY,
-        };
-        for footprint in [
-            Footprint {
-                across: 0.0,
-                up: 0.1,
-            },
-            Footprint {
-                across: f64::NAN,
-                up: 0.1,
-            },
-        ] {
+        let (e2, ray, sphere) = level(10.0, 0.01);
+        for across in [0.0, f64::NAN] {
+            let footprint = Footprint { across, up: 0.1 };
             let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 20.0, 0.0);
             assert_eq!(glimpse, Glimpse::Unresolved, "{footprint:?}");
         }
@@ -361,33 +353,15 @@ mod tests {
             clearance: 0.005,
             ..sphere
         };
-        let footprint = Footprint {
-            across: 0.1,
-            up: 0.1,
-        };
-        let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &touching, 20.0, 0.0);
+        let glimpse = sphere_coverage(e2, &ray, 0.0, &square(0.1), &touching, 20.0, 0.0);
         assert_eq!(glimpse, Glimpse::Unresolved);
     }
 
     #[test]
     fn a_light_behind_or_past_the_stretch_is_not_seen() {
-        let e2 = Space::new(Geometry::Euclidean);
-        let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
-        let footprint = Footprint {
-            across: 0.1,
-            up: 0.1,
-        };
-        let behind = DVec3::new(-2.0, 0.0, 1.0);
-        let past = DVec3::new(5.0, 0.0, 1.0);
-        for centre in [behind, past] {
-            let sphere = Sphere {
-                centre,
-                height: 0.5,
-                radius: 0.01,
-                clearance: f64::INFINITY,
-                headroom: f64::INFINITY,
-            };
-            let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 3.0, 0.0);
+        for x in [-2.0, 5.0] {
+            let (e2, ray, sphere) = level(x, 0.01);
+            let glimpse = sphere_coverage(e2, &ray, 0.0, &square(0.1), &sphere, 3.0, 0.0);
             assert_eq!(glimpse, Glimpse::Unresolved);
         }
     }
