@@ -63,10 +63,11 @@ fn rooms(c: &mut Criterion) {
 }
 
 fn hierarchies(c: &mut Criterion) {
-    let models: Vec<(String, orbifold_scene::mesh::TriangleMesh)> = ["teapot.obj", "bunny.obj"]
-        .iter()
-        .filter_map(|n| table_rays::load(n).map(|m| (n.to_string(), m)))
-        .collect();
+    let models: Vec<(String, orbifold_scene::mesh::TriangleMesh)> =
+        ["teapot.obj", "bunny.obj", "dragon.ply"]
+            .iter()
+            .filter_map(|n| table_rays::load(n).map(|m| (n.to_string(), m)))
+            .collect();
     let models = if models.is_empty() {
         vec![("torus".to_string(), builtin("torus").unwrap())]
     } else {

@@ -17,14 +17,25 @@
 //!
 //! **Build.** Top-down binned SAH over the triangles' vertices in tangent coordinates at the mesh's
 //! centre (`Space::log`) and height, leaves of at most four triangles, subtrees built in parallel
-//! with rayon above a size; the nodes are a flat array (48 bytes each) with siblings adjacent.
+//! with rayon above a size. The binary tree is then collapsed into a 4-wide one (each node takes
+//! its two children, then the largest inner child's two in its place, until it has four): a flat
+//! array of 192-byte nodes that hold their four children's bounds side by side.
+//!
+//! **Traversal.** A node's four bounds are tested at once: away from vertical rays the test is
+//! straight-line arithmetic (selects for its branches, and `fastmath`'s logarithm and arc
+//! tangent, which have no branches and a stated error that the bounds are widened by), so the
+//! compiler runs the four lanes in SIMD registers and the processor overlaps their square roots
+//! and divisions — where a binary tree waits for one bound test after another. The children met
+//! go on the stack farthest first; nearest hits prune the rest (`intersect`), any hit ends the
+//! search (`occluded`).
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
+use arrayvec::ArrayVec;
 use glam::DVec3;
 use orbifold::space::Space;
 
-use crate::fastmath::{LN_FAST_ERROR, asinh_fast};
+use crate::fastmath::{ATAN_FAST_ERROR, LN_FAST_ERROR, asin_fast, asinh_fast, atan2_fast};
 use crate::geodesic::Ray;
 /// A hit on a mesh's triangle (defined in [`crate::triangle`]).
 pub use crate::triangle::TriangleHit;
@@ -38,22 +49,76 @@ const BINS: usize = 16;
 const PARALLEL_THRESHOLD: usize = 2048;
 /// Below this depth SAH decides the split; deeper, the median (so the depth stays bounded).
 const SAH_DEPTH: usize = 48;
-/// Traversal stack size (the depth is at most `SAH_DEPTH` + log₂ of the triangle count).
-const STACK: usize = 128;
+/// Traversal stack size: each level leaves at most three children waiting, and the depth is at
+/// most `SAH_DEPTH` + log₂ of the triangle count (≤ 80).
+const STACK: usize = 256;
 
-/// A node: a geodesic disc × height interval, and either two adjacent children or a leaf range.
+/// Children per node.
+const WIDTH: usize = 4;
+
+/// A node: up to four children's bounds side by side (a structure of arrays, so that one pass of
+/// straight-line arithmetic tests all four), and for each child either the index of its node or
+/// its leaf's triangle range. An empty slot has reach −∞, which every ray misses.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
 struct Node {
-    /// Ambient centre of the disc.
-    centre: DVec3,
-    /// V(r) = ½|x − c|²_κ at the (slightly enlarged) radius; +∞ for the whole plane.
-    reach: f64,
-    /// Height interval, rounded outwards to f32.
-    heights: [f32; 2],
-    /// First child (interior) or first triangle (leaf).
+    /// Ambient centres of the discs.
+    x: [f64; WIDTH],
+    y: [f64; WIDTH],
+    z: [f64; WIDTH],
+    /// V(r) = ½|x − c|²_κ at the (slightly enlarged) radii; +∞ for the whole plane.
+    reach: [f64; WIDTH],
+    /// Height intervals, rounded outwards to f32.
+    h_lo: [f32; WIDTH],
+    h_hi: [f32; WIDTH],
+    /// The child's node (inner child) or first triangle (leaf child).
+    index: [u32; WIDTH],
+    /// The leaf child's number of triangles; 0 for an inner child.
+    count: [u32; WIDTH],
+}
+
+impl Node {
+    const EMPTY: Node = Node {
+        x: [0.0; WIDTH],
+        y: [0.0; WIDTH],
+        z: [1.0; WIDTH],
+        reach: [f64::NEG_INFINITY; WIDTH],
+        h_lo: [f32::INFINITY; WIDTH],
+        h_hi: [f32::NEG_INFINITY; WIDTH],
+        index: [0; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    /// Puts a child's bound in `slot`.
+    fn set(&mut self, slot: usize, bound: &Bound, index: u32, count: u32) {
+        self.x[slot] = bound.centre.x;
+        self.y[slot] = bound.centre.y;
+        self.z[slot] = bound.centre.z;
+        self.reach[slot] = bound.reach;
+        self.h_lo[slot] = f32_below(bound.h_lo);
+        self.h_hi[slot] = f32_above(bound.h_hi);
+        self.index[slot] = index;
+        self.count[slot] = count;
+    }
+
+    /// The bound in `slot`.
+    fn bound(&self, slot: usize) -> Bound {
+        Bound {
+            centre: DVec3::new(self.x[slot], self.y[slot], self.z[slot]),
+            reach: self.reach[slot],
+            h_lo: f64::from(self.h_lo[slot]),
+            h_hi: f64::from(self.h_hi[slot]),
+        }
+    }
+}
+
+/// A child waiting on the traversal stack: a node, or a leaf's triangles, and where the ray
+/// enters its bound.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
     index: u32,
-    /// Number of triangles (0 for an interior node).
     count: u32,
+    entry: f64,
 }
 
 /// A bounding disc × height interval in full precision.
@@ -90,6 +155,9 @@ pub(crate) struct Bound {
 #[derive(Clone, Debug)]
 pub struct Bvh {
     kappa: f64,
+    /// The bound of the whole mesh (`None` when it has no triangle).
+    root: Option<Bound>,
+    /// Node 0 holds the root's children.
     nodes: Vec<Node>,
     /// Triangles in leaf order, prepared for ray tests.
     prepared: Vec<PreparedTriangle>,
@@ -149,6 +217,31 @@ pub(crate) fn disc_around<'a>(
     let r = r * (1.0 + 1e-6) + 1e-9;
     let half = space.sin(0.5 * r);
     Some((centre, 2.0 * half * half))
+}
+
+/// A bound's half-width w in σ around its centre σ_c, widened for rounding and for the fast
+/// functions' errors (two logarithms on H², two arc tangents on S²).
+#[inline(always)]
+fn widened(w: f64, centre_sigma: f64) -> f64 {
+    const FAST_ERROR: f64 = if LN_FAST_ERROR > ATAN_FAST_ERROR {
+        LN_FAST_ERROR
+    } else {
+        ATAN_FAST_ERROR
+    };
+    w * (1.0 + 1e-9) + 1e-12 * (1.0 + centre_sigma.abs()) + 3.0 * FAST_ERROR
+}
+
+/// ⌈t⌉ by adding and taking away 1.5·2⁵² (which rounds to an integer) and a select: `f64::ceil`
+/// is a library call on baseline x86-64, which would keep the four lanes of a node test from
+/// running side by side.
+#[inline(always)]
+fn ceil_select(t: f64) -> f64 {
+    const ROUND: f64 = 6_755_399_441_055_744.0; // 1.5·2⁵²
+    if t.abs() >= 4_503_599_627_370_496.0 {
+        return t; // already an integer (2⁵² and beyond)
+    }
+    let nearest = (t + ROUND) - ROUND;
+    nearest + if nearest < t { 1.0 } else { 0.0 }
 }
 
 /// Per-ray quantities for the ray–bound test, computed once per traversal.
@@ -313,8 +406,7 @@ impl RayFrame {
         } else {
             (2.0 * asinh_fast(x), asinh_fast(cu / m))
         };
-        // Rounding, and on H² the two fast logarithms' errors.
-        let w = w * (1.0 + 1e-9) + 1e-12 * (1.0 + centre_sigma.abs()) + 3.0 * LN_FAST_ERROR;
+        let w = widened(w, centre_sigma);
         Disc::Span(centre_sigma - w, centre_sigma + w)
     }
 
@@ -340,7 +432,7 @@ impl RayFrame {
         let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
         let (start, end) = if self.kappa > 0.0 && !(end >= sigma_lo && end - TAU < sigma_lo) {
             // The first repetition (period 2π) that ends after σ_lo (usually the one found).
-            let turns = ((sigma_lo - end) / TAU).ceil();
+            let turns = ceil_select((sigma_lo - end) / TAU);
             (start + turns * TAU, end + turns * TAU)
         } else {
             (start, end)
@@ -355,17 +447,94 @@ impl RayFrame {
         })
     }
 
-    /// [`RayFrame::entry`] for a stored node.
+    /// Where the ray enters each of a node's four child bounds within [s_lo, s_hi] (NaN where it
+    /// does not, so that every comparison with a miss fails, even when s_hi = +∞): [`RayFrame::entry`] for the four at once. Away from vertical rays the four
+    /// lanes are straight-line arithmetic with selects for branches (the fast functions'
+    /// reductions too), so that they run side by side rather than one after another.
     #[inline(always)]
-    fn node_entry(&self, node: &Node, s_lo: f64, s_hi: f64) -> Option<f64> {
-        self.entry(
-            node.centre,
-            node.reach,
-            f64::from(node.heights[0]),
-            f64::from(node.heights[1]),
-            s_lo,
-            s_hi,
-        )
+    fn entries(&self, node: &Node, s_lo: f64, s_hi: f64) -> [f64; WIDTH] {
+        if self.vertical {
+            return std::array::from_fn(|i| {
+                let b = node.bound(i);
+                self.entry(b.centre, b.reach, b.h_lo, b.h_hi, s_lo, s_hi)
+                    .unwrap_or(f64::NAN)
+            });
+        }
+        let mut out = [f64::NAN; WIDTH];
+        if self.kappa > 0.0 {
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.lane::<1>(node, i, s_lo, s_hi);
+            }
+        } else if self.kappa == 0.0 {
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.lane::<0>(node, i, s_lo, s_hi);
+            }
+        } else {
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.lane::<-1>(node, i, s_lo, s_hi);
+            }
+        }
+        out
+    }
+
+    /// One lane of [`RayFrame::entries`] for a ray that is not vertical, in the geometry whose
+    /// curvature has the sign `K`: the same formulas as [`RayFrame::disc`] and
+    /// [`RayFrame::entry`], without branches.
+    #[inline(always)]
+    fn lane<const K: i32>(&self, node: &Node, i: usize, s_lo: f64, s_hi: f64) -> f64 {
+        let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
+        let (lo, hi) = if self.level {
+            let inside = self.h >= h_lo && self.h <= h_hi;
+            (s_lo, if inside { s_hi } else { f64::NEG_INFINITY })
+        } else {
+            let t1 = (h_lo - self.h) * self.inv_sa;
+            let t2 = (h_hi - self.h) * self.inv_sa;
+            (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
+        };
+        let c = DVec3::new(node.x[i], node.y[i], node.z[i]);
+        let reach = node.reach[i];
+        let k = self.kappa;
+        let gamma = self.dot(c, self.v) - self.pv;
+        let g2 = gamma * gamma;
+        let m = if K == 0 {
+            1.0
+        } else {
+            (1.0 - k * g2).max(0.0).sqrt()
+        };
+        let v_perp = if K == 0 { 0.5 * g2 } else { g2 / (1.0 + m) };
+        let x = (0.5 * (reach - v_perp) / m).sqrt();
+        let cu = self.dot(c, self.u) - self.pu;
+        // On S² a disc that holds the whole great circle (x ≥ 1, or NaN when m = 0), and in
+        // every geometry the whole plane (reach = +∞), is entered wherever the slab is.
+        let everywhere = reach == f64::INFINITY || (K > 0 && (x.is_nan() || x >= 1.0));
+        let (w, centre_sigma) = match K {
+            1 => (
+                2.0 * asin_fast(if x < 1.0 { x } else { 0.0 }),
+                atan2_fast(cu, self.dot(c, self.p)),
+            ),
+            0 => (2.0 * x, cu),
+            _ => (2.0 * asinh_fast(x), asinh_fast(cu / m)),
+        };
+        let w = widened(w, centre_sigma);
+        let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
+        let (mut start, mut end) = (centre_sigma - w, centre_sigma + w);
+        if K > 0 {
+            // The first repetition (period 2π) that ends at or after σ_lo.
+            let turns = ceil_select((sigma_lo - end) / TAU);
+            start += turns * TAU;
+            end += turns * TAU;
+            let behind = end < sigma_lo;
+            start += if behind { TAU } else { 0.0 };
+            end += if behind { TAU } else { 0.0 };
+        }
+        let met =
+            lo <= hi && v_perp <= reach && (everywhere || (start <= sigma_hi && end >= sigma_lo));
+        let entry = if everywhere || start <= sigma_lo {
+            lo
+        } else {
+            (start * self.inv_ca).min(hi)
+        };
+        if met { entry } else { f64::NAN }
     }
 }
 
@@ -379,8 +548,43 @@ struct Key {
 
 /// A node of the tree before flattening.
 enum Temp {
+    /// Bound, first triangle, number of triangles.
     Leaf(Bound, u32, u32),
-    Inner(Bound, Box<[Temp; 2]>),
+    /// Bound, children, number of triangles below.
+    Inner(Bound, Box<[Temp; 2]>, usize),
+}
+
+impl Temp {
+    fn bound(&self) -> &Bound {
+        match self {
+            Temp::Leaf(b, ..) | Temp::Inner(b, ..) => b,
+        }
+    }
+
+    /// The children a node of the flattened tree gets for this one: its two, then the largest
+    /// inner child replaced by its two until there are four (or only leaves).
+    fn children(self) -> Vec<Temp> {
+        let Temp::Inner(_, pair, _) = self else {
+            return vec![self];
+        };
+        let mut children: Vec<Temp> = Vec::from(*pair);
+        while children.len() < WIDTH {
+            let largest = children
+                .iter()
+                .enumerate()
+                .filter_map(|(i, c)| match c {
+                    Temp::Inner(_, _, n) => Some((i, *n)),
+                    Temp::Leaf(..) => None,
+                })
+                .max_by_key(|&(_, n)| n);
+            let Some((i, _)) = largest else { break };
+            let Temp::Inner(_, pair, _) = children.swap_remove(i) else {
+                unreachable!("an inner child was chosen")
+            };
+            children.extend(*pair);
+        }
+        children
+    }
 }
 
 struct Builder<'a> {
@@ -547,38 +751,33 @@ impl Builder<'_> {
                 self.build(right, offset + mid, depth + 1),
             )
         };
-        Temp::Inner(bound, Box::new([a, b]))
+        Temp::Inner(bound, Box::new([a, b]), size)
     }
 }
 
-fn to_node(bound: &Bound, index: u32, count: u32) -> Node {
-    Node {
-        centre: bound.centre,
-        reach: bound.reach,
-        heights: [f32_below(bound.h_lo), f32_above(bound.h_hi)],
-        index,
-        count,
-    }
-}
-
-/// Writes `temp` at `at` and its descendants after the current end; returns the subtree's depth.
-fn flatten(temp: Temp, at: usize, nodes: &mut Vec<Node>) -> usize {
-    match temp {
-        Temp::Leaf(bound, start, count) => {
-            nodes[at] = to_node(&bound, start, count);
-            1
-        }
-        Temp::Inner(bound, children) => {
-            let first = nodes.len();
-            nodes[at] = to_node(&bound, first as u32, 0);
-            let placeholder = nodes[at];
-            nodes.extend([placeholder; 2]);
-            let [a, b] = *children;
-            let da = flatten(a, first, nodes);
-            let db = flatten(b, first + 1, nodes);
-            1 + da.max(db)
+/// Writes a node for `children` at `at` and its descendants after the current end; returns the
+/// subtree's depth.
+fn flatten(children: Vec<Temp>, at: usize, nodes: &mut Vec<Node>) -> usize {
+    let mut node = Node::EMPTY;
+    let mut inner = Vec::new();
+    for (slot, child) in children.into_iter().enumerate() {
+        match child {
+            Temp::Leaf(bound, start, count) => node.set(slot, &bound, start, count),
+            Temp::Inner(bound, ..) => {
+                node.set(slot, &bound, 0, 0);
+                inner.push((slot, child));
+            }
         }
     }
+    nodes[at] = node;
+    let mut depth = 0;
+    for (slot, child) in inner {
+        let index = nodes.len();
+        nodes.push(Node::EMPTY);
+        nodes[at].index[slot] = index as u32;
+        depth = depth.max(flatten(child.children(), index, nodes));
+    }
+    1 + depth
 }
 
 impl Bvh {
@@ -610,6 +809,7 @@ impl Bvh {
             .collect();
         let mut bvh = Bvh {
             kappa: space.kappa(),
+            root: None,
             nodes: Vec::new(),
             prepared: Vec::new(),
             order: Vec::new(),
@@ -674,18 +874,14 @@ impl Bvh {
             keys,
         };
         let root = builder.build(&mut tris, 0, 0);
-        let mut nodes = Vec::with_capacity(2 * tris.len() / LEAF_SIZE + 1);
-        nodes.push(to_node(
-            &Bound {
-                centre: DVec3::Z,
-                reach: 0.0,
-                h_lo: 0.0,
-                h_hi: 0.0,
-            },
-            0,
-            0,
-        ));
-        bvh.depth = flatten(root, 0, &mut nodes);
+        bvh.root = Some(*root.bound());
+        let mut nodes = Vec::with_capacity(tris.len() / LEAF_SIZE + 1);
+        nodes.push(Node::EMPTY);
+        bvh.depth = flatten(root.children(), 0, &mut nodes);
+        assert!(
+            3 * bvh.depth < STACK,
+            "the BVH is too deep for its traversal stack"
+        );
         bvh.nodes = nodes;
         bvh.prepared = tris
             .iter()
@@ -717,23 +913,24 @@ impl Bvh {
             "the BVH was built for another geometry"
         );
         let frame = RayFrame::new(space, ray);
+        let root = self.root.as_ref()?;
+        let entry = frame.entry(root.centre, root.reach, root.h_lo, root.h_hi, s_min, s_max)?;
         let mut best_s = s_max;
         let mut best = None;
-        let root = self.nodes.first()?;
-        let entry = frame.node_entry(root, s_min, best_s)?;
-        let mut stack = [(0u32, 0.0f64); STACK];
-        stack[0] = (0, entry);
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (index, entry) = stack[top];
-            if entry > best_s {
+        // Not an array: zeroing 4 KiB for every ray would cost more than a short traversal.
+        let mut stack = ArrayVec::<Pending, STACK>::new();
+        stack.push(Pending {
+            index: 0,
+            count: 0,
+            entry,
+        });
+        while let Some(pending) = stack.pop() {
+            if pending.entry > best_s {
                 continue;
             }
-            let node = &self.nodes[index as usize];
-            if node.count > 0 {
-                let start = node.index as usize;
-                for t in start..start + node.count as usize {
+            if pending.count > 0 {
+                let start = pending.index as usize;
+                for t in start..start + pending.count as usize {
                     if let Some(c) = self.prepared[t].intersect_in(space, &frame, s_min, best_s)
                         && c.s <= best_s
                     {
@@ -747,29 +944,28 @@ impl Bvh {
                 }
                 continue;
             }
-            let first = node.index as usize;
-            let a = frame.node_entry(&self.nodes[first], s_min, best_s);
-            let b = frame.node_entry(&self.nodes[first + 1], s_min, best_s);
-            match (a, b) {
-                (Some(a), Some(b)) => {
-                    let (near, far) = if a <= b {
-                        ((first, a), (first + 1, b))
-                    } else {
-                        ((first + 1, b), (first, a))
-                    };
-                    stack[top] = (far.0 as u32, far.1);
-                    stack[top + 1] = (near.0 as u32, near.1);
-                    top += 2;
+            let node = &self.nodes[pending.index as usize];
+            let entries = frame.entries(node, s_min, best_s);
+            // The children met, farthest first, so that the nearest is taken next.
+            let mut met = [(0.0, 0usize); WIDTH];
+            let mut n = 0;
+            for (slot, &e) in entries.iter().enumerate() {
+                if e <= best_s {
+                    let mut j = n;
+                    while j > 0 && met[j - 1].0 < e {
+                        met[j] = met[j - 1];
+                        j -= 1;
+                    }
+                    met[j] = (e, slot);
+                    n += 1;
                 }
-                (Some(a), None) => {
-                    stack[top] = (first as u32, a);
-                    top += 1;
-                }
-                (None, Some(b)) => {
-                    stack[top] = (first as u32 + 1, b);
-                    top += 1;
-                }
-                (None, None) => {}
+            }
+            for &(entry, slot) in &met[..n] {
+                stack.push(Pending {
+                    index: node.index[slot],
+                    count: node.count[slot],
+                    entry,
+                });
             }
         }
         best
@@ -783,20 +979,21 @@ impl Bvh {
             "the BVH was built for another geometry"
         );
         let frame = RayFrame::new(space, ray);
-        if self.nodes.is_empty() {
+        let Some(root) = self.root.as_ref() else {
+            return false;
+        };
+        if frame
+            .entry(root.centre, root.reach, root.h_lo, root.h_hi, s_min, s_max)
+            .is_none()
+        {
             return false;
         }
-        let mut stack = [0u32; STACK];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let node = &self.nodes[stack[top] as usize];
-            if frame.node_entry(node, s_min, s_max).is_none() {
-                continue;
-            }
-            if node.count > 0 {
-                let start = node.index as usize;
-                if self.prepared[start..start + node.count as usize]
+        let mut stack = ArrayVec::<(u32, u32), STACK>::new();
+        stack.push((0, 0));
+        while let Some((index, count)) = stack.pop() {
+            if count > 0 {
+                let start = index as usize;
+                if self.prepared[start..start + count as usize]
                     .iter()
                     .any(|t| t.intersect_in(space, &frame, s_min, s_max).is_some())
                 {
@@ -804,9 +1001,13 @@ impl Bvh {
                 }
                 continue;
             }
-            stack[top] = node.index + 1;
-            stack[top + 1] = node.index;
-            top += 2;
+            let node = &self.nodes[index as usize];
+            let entries = frame.entries(node, s_min, s_max);
+            for (slot, &e) in entries.iter().enumerate() {
+                if e <= s_max {
+                    stack.push((node.index[slot], node.count[slot]));
+                }
+            }
         }
         false
     }
@@ -832,12 +1033,7 @@ impl Bvh {
 
     /// The bound of the whole mesh (`None` when it has no triangle).
     pub(crate) fn bound(&self) -> Option<Bound> {
-        self.nodes.first().map(|n| Bound {
-            centre: n.centre,
-            reach: n.reach,
-            h_lo: f64::from(n.heights[0]),
-            h_hi: f64::from(n.heights[1]),
-        })
+        self.root
     }
 
     /// The depth of the tree (1 for a single leaf, 0 when empty).
@@ -879,8 +1075,32 @@ mod tests {
     use orbifold::Geometry;
 
     #[test]
-    fn nodes_are_48_bytes() {
-        assert_eq!(std::mem::size_of::<Node>(), 48);
+    fn nodes_are_three_cache_lines() {
+        assert_eq!(std::mem::size_of::<Node>(), 192);
+    }
+
+    #[test]
+    fn ceil_select_is_ceil() {
+        for t in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            1.5,
+            2.5,
+            -2.5,
+            1e-300,
+            -1e-300,
+            3.999_999_999,
+            4_503_599_627_370_495.5,
+            1e20,
+            -1e20,
+            0.999_999_999_999_999_9,
+        ] {
+            assert_eq!(ceil_select(t), t.ceil(), "{t}");
+        }
     }
 
     #[test]
@@ -932,6 +1152,117 @@ mod tests {
                     assert!(e <= s + 1e-9, "{g:?}: entry {e} after inside sample {s}");
                 }
             }
+        }
+    }
+
+    /// A random node of four bounds around the origin of `space` (some slots left empty).
+    fn random_node(space: Space, rnd: &mut impl FnMut() -> f64) -> Node {
+        let mut node = Node::EMPTY;
+        for slot in 0..WIDTH {
+            if rnd() < 0.15 {
+                continue; // an empty slot
+            }
+            let c = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * 2.0);
+            let reach = if rnd() < 0.05 {
+                f64::INFINITY
+            } else {
+                let half = space.sin(0.25 * rnd());
+                2.0 * half * half
+            };
+            let (h_lo, h_hi) = (rnd() * 0.5, 0.5 + rnd() * 0.5);
+            let bound = Bound {
+                centre: c,
+                reach,
+                h_lo,
+                h_hi,
+            };
+            node.set(slot, &bound, slot as u32, 0);
+        }
+        node
+    }
+
+    #[test]
+    fn four_lane_test_agrees_with_the_scalar_one_and_with_sampling() {
+        // Every lane of `entries` is conservative (never after a sample point inside its bound,
+        // never a miss when one is inside) and, but for the fast functions' errors, equal to
+        // `entry`; empty slots are missed. Rays of every kind: level, vertical, steep, long
+        // (several turns round the sphere), with s_max = +∞.
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let mut seed = 987654321u64;
+            let mut rnd = || {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (seed >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let (mut met, mut missed) = (0, 0);
+            for case in 0..3000 {
+                let node = random_node(space, &mut rnd);
+                let origin = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0));
+                let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
+                let elevation = match case % 5 {
+                    0 => 0.0,
+                    1 => std::f64::consts::FRAC_PI_2,
+                    _ => 1.4 * (rnd() - 0.5),
+                };
+                let ray = Ray::new(space, origin, dir, rnd(), elevation);
+                let frame = RayFrame::new(space, &ray);
+                let s_min = if case % 7 == 0 { 2.5 } else { 0.0 };
+                let s_max = match case % 3 {
+                    0 => f64::INFINITY,
+                    1 => 9.0,
+                    _ => 4.0,
+                };
+                let entries = frame.entries(&node, s_min, s_max);
+                for (slot, &lane) in entries.iter().enumerate() {
+                    let b = node.bound(slot);
+                    if b.reach == f64::NEG_INFINITY {
+                        assert!(lane.is_nan(), "{g:?}: an empty slot was met");
+                        continue;
+                    }
+                    let scalar = frame.entry(b.centre, b.reach, b.h_lo, b.h_hi, s_min, s_max);
+                    match scalar {
+                        Some(e) => {
+                            assert!(
+                                (lane - e).abs() <= 1e-8 * (1.0 + e.abs()),
+                                "{g:?}: lane {lane} vs scalar {e}"
+                            );
+                            met += 1;
+                        }
+                        None => {
+                            missed += 1;
+                        }
+                    }
+                    // Sampling along the ray up to 9 (or s_max).
+                    let end = s_max.min(9.0);
+                    let r = 2.0 * space.asin((0.5 * b.reach).sqrt());
+                    for i in 0..=3000 {
+                        let s = s_min + (end - s_min) * f64::from(i) / 3000.0;
+                        let (x, h) = ray.point_at(space, s);
+                        let inside = if b.reach == f64::INFINITY {
+                            true
+                        } else {
+                            space.ambient_distance(x, b.centre) <= r
+                        };
+                        if inside && h >= b.h_lo && h <= b.h_hi {
+                            assert!(
+                                lane <= s + 1e-9,
+                                "{g:?}: lane {lane} after inside sample {s} (scalar {scalar:?})"
+                            );
+                            break;
+                        }
+                    }
+                }
+            }
+            assert!(
+                met > 500 && missed > 500,
+                "{g:?}: {met} met, {missed} missed"
+            );
         }
     }
 }

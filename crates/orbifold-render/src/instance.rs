@@ -197,16 +197,15 @@ impl Instances {
         s_min: f64,
         s_max: f64,
     ) -> Option<(usize, TriangleHit)> {
-        let frame = RayFrame::new(space, ray);
         // One object (the usual scene): no list of candidates to allocate and sort — this runs
-        // for every stretch of every path between two mirrors.
+        // for every stretch of every path between two mirrors — and no world bound test, which
+        // would repeat the BVH's test of its root bound.
         if let [instance] = self.instances.as_slice() {
-            let b = self.bounds[0].as_ref()?;
-            frame.entry(b.centre, b.reach, b.h_lo, b.h_hi, s_min, s_max)?;
             return instance
                 .intersect(space, ray, s_min, s_max)
                 .map(|hit| (0, hit));
         }
+        let frame = RayFrame::new(space, ray);
         let mut candidates: Vec<(f64, usize)> = self
             .bounds
             .iter()

@@ -565,12 +565,14 @@ fn bvh_agrees_with_brute_force() {
         let mut rng = Rng::new(7);
         let (points, heights, triangles) = soup(space, 3000, &mut rng);
         let bvh = Bvh::build(space, &points, &heights, &triangles);
+        // Leaves of at most 4 triangles, nodes of at most 4 children: at least 750 leaves under
+        // at least 188 nodes, 5 levels deep.
         assert!(
-            bvh.depth() >= 8 && bvh.depth() <= 64,
+            bvh.depth() >= 5 && bvh.depth() <= 64,
             "{g:?}: depth {}",
             bvh.depth()
         );
-        assert!(bvh.node_count() >= triangles.len() / 4);
+        assert!(bvh.node_count() >= triangles.len() / 16);
         let (mut hits, mut rays) = (0, 0);
         // Brute force over the soup is slow unoptimised: fewer rays in debug builds (CI).
         let total = if cfg!(debug_assertions) { 1000 } else { 3000 };
