@@ -235,6 +235,9 @@ impl Instances {
 
     /// Whether the ray meets any object at arc length in `[s_min, s_max]` (for shadow rays).
     pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+        if let [instance] = self.instances.as_slice() {
+            return instance.occluded(space, ray, s_min, s_max);
+        }
         let frame = RayFrame::new(space, ray);
         self.instances.iter().zip(&self.bounds).any(|(o, b)| {
             b.as_ref().is_some_and(|b| {

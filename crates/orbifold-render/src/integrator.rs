@@ -363,9 +363,15 @@ enum MarchEnd {
     Hit(Near),
     /// At the requested length, with nothing in the way.
     Reached,
+    /// A visibility march stopped by something that is not a mirror (what, it does not find).
+    Blocked,
     /// Out through a cusp, or at the mirror-bounce limit.
     Lost,
 }
+
+/// Something other than a mirror in the way of a visibility march.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Blocked;
 
 /// A march through mirrors.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -726,6 +732,38 @@ impl Integrator {
         best
     }
 
+    /// For a visibility march: the room surface where `ray` leaves the room before arc length
+    /// `limit` (`None` if it does not), or `Err(Blocked)` if an object or an area light other
+    /// than `skip` is in the way first. An any-hit search: it stops at the first triangle
+    /// found, where [`Integrator::nearest`] must go on looking for a nearer one.
+    fn unblocked_exit(
+        &self,
+        ray: &Ray,
+        skip: Option<usize>,
+        limit: f64,
+    ) -> Result<Option<Near>, Blocked> {
+        let space = self.space();
+        let exit = self.tracer.room.exit(ray).filter(|e| e.s < limit);
+        let reach = exit.as_ref().map_or(limit, |e| e.s);
+        if self.tracer.objects.occluded(space, ray, 0.0, reach) {
+            return Err(Blocked);
+        }
+        for (l, light) in self.lights.iter().enumerate() {
+            if let Emitter::Area { instance, .. } = &light.emitter
+                && skip != Some(l)
+                && instance.occluded(space, ray, 0.0, reach)
+            {
+                return Err(Blocked);
+            }
+        }
+        Ok(exit.map(|e| Near {
+            s: e.s,
+            struck: Struck::Surface(e.surface.into(), None),
+            point: e.point,
+            height: e.height,
+        }))
+    }
+
     /// Follows a ray through mirrors for at most `length`, not meeting light `skip`.
     ///
     /// With `roulette` (a sampler and the luminance of the path's throughput so far), a path
@@ -735,6 +773,9 @@ impl Integrator {
     ///
     /// With a `footprint` (a camera ray's pixel), sphere lights whose images are smaller than the
     /// footprint are counted by the share of it that they cover ([`crate::footprint`]).
+    ///
+    /// With `visibility_only` (a connection to a light), the march only needs to know whether
+    /// it gets through: it ends `Blocked` at the first thing in the way that is not a mirror.
     fn march(
         &self,
         ray: &Ray,
@@ -742,6 +783,7 @@ impl Integrator {
         skip: Option<usize>,
         mut roulette: Option<(&mut Sampler, f64)>,
         footprint: Option<&Footprint>,
+        visibility_only: bool,
     ) -> March {
         let space = self.space();
         let mut march = March {
@@ -756,8 +798,17 @@ impl Integrator {
         };
         for _ in 0..=MAX_MIRROR_BOUNCES {
             let remaining = length - march.length;
-            let near = self.nearest(&march.ray, skip);
-            let near = near.filter(|n| n.s < remaining);
+            let near = if visibility_only {
+                match self.unblocked_exit(&march.ray, skip, remaining) {
+                    Ok(near) => near,
+                    Err(Blocked) => {
+                        march.end = MarchEnd::Blocked;
+                        return march;
+                    }
+                }
+            } else {
+                self.nearest(&march.ray, skip).filter(|n| n.s < remaining)
+            };
             if let Some(footprint) = footprint {
                 self.glimpse(&mut march, footprint, near.as_ref(), remaining);
             }
@@ -979,7 +1030,14 @@ impl Integrator {
             .triangle
             .is_some_and(|(t, _)| light.reaches_unobstructed(space, t, from))
             .then_some(entry.light);
-        let march = self.march(&start, link.length - 2.0 * RAY_EPSILON, skip, None, None);
+        let march = self.march(
+            &start,
+            link.length - 2.0 * RAY_EPSILON,
+            skip,
+            None,
+            None,
+            true,
+        );
         if march.end != MarchEnd::Reached {
             return [0.0; 3];
         }
@@ -1083,7 +1141,7 @@ impl Integrator {
             let roulette = Some((&mut *sampler, luminance(beta)));
             // The pixel's footprint is carried from the camera through mirrors only.
             let carried = footprint.as_ref().filter(|_| first.is_none());
-            let march = self.march(&ray, f64::INFINITY, None, roulette, carried);
+            let march = self.march(&ray, f64::INFINITY, None, roulette, carried, false);
             add(&mut radiance, mul(beta, march.glimpsed));
             beta = mul(beta, march.throughput);
             let MarchEnd::Hit(near) = march.end else {
