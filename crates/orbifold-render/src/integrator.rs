@@ -19,6 +19,7 @@ use orbifold_scene::geometry::representative;
 use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
 use crate::bsdf::{Bsdf, marble};
+use crate::fastmath::{asin_fast, ln_fast};
 use crate::flat::{flatten_light, flatten_tracer};
 use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use crate::geodesic::Ray;
@@ -338,6 +339,77 @@ const NEAR_CLAMP: f64 = 0.05;
 /// Per-point weights use at least this cosine (the bound is rough off the floor and ceiling).
 const COSINE_FLOOR: f64 = 0.05;
 
+/// The near light images as the per-point weights use them, one array per quantity so that the
+/// loop over them runs several images at a time in SIMD registers (it runs at every path
+/// vertex, over up to `NEAR_MAX` images).
+#[derive(Clone, Debug, Default)]
+struct NearImages {
+    /// Ambient position of the image of the light's centre.
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    height: Vec<f64>,
+    /// 1 for the long way round the sphere (σ → 2π − σ), else 0.
+    long_way: Vec<f64>,
+    /// Luminance of the light's power × the image's reflectance.
+    power: Vec<f64>,
+}
+
+impl NearImages {
+    fn new(images: impl Iterator<Item = (DVec3, f64, bool, f64)>) -> NearImages {
+        let mut near = NearImages::default();
+        for (position, height, long_way, power) in images {
+            near.x.push(position.x);
+            near.y.push(position.y);
+            near.z.push(position.z);
+            near.height.push(height);
+            near.long_way.push(if long_way { 1.0 } else { 0.0 });
+            near.power.push(power);
+        }
+        near
+    }
+
+    /// The weights at `(x, h, up, floor)` in a geometry of curvature `k` whose sign is `K`
+    /// (see [`Integrator::near_weights`]), and their sum. Straight-line code: the inverse
+    /// functions are `fastmath`'s, the branches selects.
+    #[inline(always)]
+    fn weights<const K: i32>(
+        &self,
+        k: f64,
+        (x, h, up, floor): (DVec3, f64, f64, f64),
+        weights: &mut [f64; NEAR_MAX],
+    ) -> f64 {
+        let side = (1.0 - up * up).max(0.0).sqrt();
+        let n = self.x.len().min(NEAR_MAX);
+        let (px, py, pz) = (&self.x[..n], &self.y[..n], &self.z[..n]);
+        let (height, long_way, power) = (&self.height[..n], &self.long_way[..n], &self.power[..n]);
+        for i in 0..n {
+            // σ and S(σ) from the chord c = 2 S(σ/2): S(σ) = c √(1 − κc²/4), with one inverse
+            // function.
+            let (dx, dy, dz) = (x.x - px[i], x.y - py[i], x.z - pz[i]);
+            let c = (dx * dx + dy * dy + k * dz * dz).max(0.0).sqrt();
+            let half = 0.5 * c;
+            let sigma = match K {
+                1 => 2.0 * asin_fast(half.min(1.0)),
+                -1 => 2.0 * ln_fast(half + (half * half + 1.0).sqrt()),
+                _ => c,
+            };
+            let sine = if K == 0 {
+                c
+            } else {
+                c * (1.0 - k * half * half).max(0.0).sqrt()
+            };
+            let sigma = sigma + long_way[i] * (std::f64::consts::TAU - 2.0 * sigma);
+            let dh = height[i] - h;
+            let length2 = sigma * sigma + dh * dh;
+            let ratio = if sigma > 1e-9 { sine / sigma } else { 1.0 };
+            let cosine = ((side * sigma + up * dh) / length2.sqrt()).clamp(COSINE_FLOOR, 1.0);
+            weights[i] = power[i] * cosine / (length2 * ratio).max(floor);
+        }
+        weights[..n].iter().sum()
+    }
+}
+
 /// What a ray met.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Struck {
@@ -431,6 +503,8 @@ pub struct Integrator {
     distribution: Option<Distribution1d>,
     /// Indices into `entries` weighted per surface point (at most `NEAR_MAX`).
     near: Vec<usize>,
+    /// What the per-point weights need of the `near` entries, side by side.
+    near_images: NearImages,
     floor: Look,
     ceiling: Look,
     walls: Vec<Look>,
@@ -509,6 +583,7 @@ impl Integrator {
             entries: Vec::new(),
             distribution: None,
             near: Vec::new(),
+            near_images: NearImages::default(),
             spheres: Vec::new(),
         };
         if settings.pixel_footprint && !settings.straight_rays {
@@ -591,6 +666,12 @@ impl Integrator {
             }
         }
         self.distribution = Distribution1d::new(&weights);
+        self.near_images = NearImages::new(self.near.iter().map(|&e| {
+            let entry = &self.entries[e];
+            let image = &self.images.images[entry.image];
+            let power = luminance(mul(self.lights[entry.light].power, image.reflectance));
+            (entry.position, entry.height, entry.long_way, power)
+        }));
     }
 
     /// The plane.
@@ -607,39 +688,17 @@ impl Integrator {
     /// (|n_h| σ + up·Δh)/ℓ — exact on the floor and the ceiling, where it falls off as Δh/ℓ and
     /// makes far images weigh as 1/ℓ³ rather than 1/ℓ².
     fn near_weights(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
-        let side = (1.0 - up * up).max(0.0).sqrt();
         let space = self.space();
         let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
-        let mut total = 0.0;
+        let at = (x, h, up, floor);
         let k = space.kappa();
-        for (slot, &e) in weights.iter_mut().zip(&self.near) {
-            let entry = &self.entries[e];
-            // σ and S(σ) from the chord c = 2 S(σ/2): S(σ) = c √(1 − κc²/4), with one inverse
-            // function (a logarithm in H²) — this runs for every near image at every vertex.
-            let d = x - entry.position;
-            let c = space.point_dot(d, d).max(0.0).sqrt();
-            let half = 0.5 * c;
-            let mut sigma = if k > 0.0 {
-                2.0 * half.min(1.0).asin()
-            } else if k < 0.0 {
-                2.0 * (half + (half * half + 1.0).sqrt()).ln()
-            } else {
-                c
-            };
-            let sine = c * (1.0 - k * half * half).max(0.0).sqrt();
-            if entry.long_way {
-                sigma = std::f64::consts::TAU - sigma;
-            }
-            let dh = entry.height - h;
-            let length2 = sigma * sigma + dh * dh;
-            let ratio = if sigma > 1e-9 { sine / sigma } else { 1.0 };
-            let cosine = ((side * sigma + up * dh) / length2.sqrt()).clamp(COSINE_FLOOR, 1.0);
-            let image = &self.images.images[entry.image];
-            let power = mul(self.lights[entry.light].power, image.reflectance);
-            *slot = luminance(power) * cosine / (length2 * ratio).max(floor);
-            total += *slot;
+        if k > 0.0 {
+            self.near_images.weights::<1>(k, at, weights)
+        } else if k < 0.0 {
+            self.near_images.weights::<-1>(k, at, weights)
+        } else {
+            self.near_images.weights::<0>(k, at, weights)
         }
-        total
     }
 
     /// Picks a light-sampling choice at (x, h): with probability `NEAR_SHARE` among the near
