@@ -1110,6 +1110,16 @@ mod tests {
         }
     }
 
+    /// Uniforms in [0, 1) from a linear congruential generator (deterministic, no crate).
+    fn uniforms(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     #[test]
     fn bound_test_agrees_with_sampling() {
         // The entry test never rejects a ray segment that has a sample point inside the bound.
@@ -1119,13 +1129,7 @@ mod tests {
             Geometry::Hyperbolic,
         ] {
             let space = Space::new(g);
-            let mut seed = 12345u64;
-            let mut rnd = || {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (seed >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut rnd = uniforms(12345u64);
             for _ in 0..2000 {
                 let c = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * 2.0);
                 let r = 0.5 * rnd();
@@ -1193,13 +1197,7 @@ mod tests {
             Geometry::Hyperbolic,
         ] {
             let space = Space::new(g);
-            let mut seed = 987654321u64;
-            let mut rnd = || {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (seed >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let mut rnd = uniforms(987654321u64);
             let (mut met, mut missed) = (0, 0);
             // Fewer cases unoptimised (CI runs the tests in debug builds).
             let (cases, samples) = if cfg!(debug_assertions) {
