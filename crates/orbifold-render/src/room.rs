@@ -17,6 +17,35 @@ use orbifold_scene::{Color, Scene};
 
 use crate::geodesic::{Ray, line_crossing};
 
+/// How a wall's crossing is found once the wall is known to be the nearest.
+#[derive(Clone, Copy, Debug)]
+enum WallCrossing {
+    /// [`line_crossing`] of the linear form's values at the ray's origin and along it.
+    Line(f64, f64),
+    /// Already found (σ).
+    Found(f64),
+}
+
+/// A key that grows with the σ of [`line_crossing`]`(space, a, b)` and is `None` exactly when
+/// it is: tanh σ in H² (a division where σ needs an `atanh`), σ in E², −cos σ in S² (a square
+/// root where σ needs an `atan2`).
+#[inline]
+fn crossing_key(space: Space, a: f64, b: f64) -> Option<f64> {
+    let a = a.max(0.0);
+    let k = space.kappa();
+    if k > 0.0 {
+        // σ = atan2(a, −b) ∈ [0, π] with a ≥ 0, so cos σ = −b/r; for a = b = 0 the sign of
+        // zero decides (atan2(0, −0) = π, atan2(0, +0) = 0), as it does for b/r's sign.
+        let r = (a * a + b * b).sqrt();
+        return Some(if r > 0.0 { b / r } else { 1f64.copysign(b) });
+    }
+    if b >= 0.0 {
+        return None;
+    }
+    let ratio = a / -b;
+    (k == 0.0 || ratio < 1.0).then_some(ratio)
+}
+
 /// A rectangular mirror on a wall: fractions of the wall's length × heights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MirrorRect {
@@ -218,18 +247,40 @@ impl AnalyticRoom {
             best = Some((s, RoomSurface::Floor));
         }
         if ray.cos_elevation > 0.0 {
+            // The nearest wall by a key that grows with σ, so that only its crossing needs an
+            // inverse function (`atanh` in H², `atan2` in S²).
+            let mut nearest: Option<(f64, usize, WallCrossing)> = None;
             for (i, wall) in self.walls.iter().enumerate() {
-                let crossing = match wall.drawn_in {
-                    None => line_crossing(
-                        space,
-                        wall.form.dot(ray.origin),
-                        wall.form.dot(ray.direction),
-                    ),
-                    Some(curved) => self.model_crossing(curved.kappa(), wall.form, ray),
+                let (key, crossing) = match wall.drawn_in {
+                    None => {
+                        let (a, b) = (wall.form.dot(ray.origin), wall.form.dot(ray.direction));
+                        let Some(key) = crossing_key(space, a, b) else {
+                            continue;
+                        };
+                        (key, WallCrossing::Line(a, b))
+                    }
+                    Some(curved) => {
+                        // Straight-ray mode: the room is flat, where the key is σ itself.
+                        debug_assert_eq!(space.kappa(), 0.0, "curved walls are drawn in E²");
+                        let Some(sigma) = self.model_crossing(curved.kappa(), wall.form, ray)
+                        else {
+                            continue;
+                        };
+                        (sigma, WallCrossing::Found(sigma))
+                    }
                 };
-                let Some(sigma) = crossing else {
-                    continue;
+                if nearest.is_none_or(|(k, _, _)| key < k) {
+                    nearest = Some((key, i, crossing));
+                }
+            }
+            let sigma = nearest.and_then(|(_, i, crossing)| {
+                let sigma = match crossing {
+                    WallCrossing::Line(a, b) => line_crossing(space, a, b)?,
+                    WallCrossing::Found(sigma) => sigma,
                 };
+                Some((sigma, i))
+            });
+            if let Some((sigma, i)) = sigma {
                 let s = sigma / ray.cos_elevation;
                 if best.is_none_or(|(t, _)| s < t) {
                     best = Some((s, RoomSurface::Wall(i)));
@@ -363,5 +414,53 @@ impl AnalyticRoom {
                     model_curve(curved.kappa(), w.form, self.space.to_model(point)) >= -tolerance
                 }
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use orbifold::Geometry;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn crossing_keys_order_walls_as_their_crossings_do(
+            g in 0usize..3,
+            (a1, b1, a2, b2) in (-1.0f64..2.0, -2.0f64..2.0, -1.0f64..2.0, -2.0f64..2.0),
+        ) {
+            // The key exists exactly when the crossing does, and two walls' keys compare as
+            // their σ do (`exit` picks the nearest wall by key, then finds only its σ).
+            let space = Space::new([Geometry::Spherical, Geometry::Euclidean, Geometry::Hyperbolic][g]);
+            let (k1, s1) = (crossing_key(space, a1, b1), line_crossing(space, a1, b1));
+            let (k2, s2) = (crossing_key(space, a2, b2), line_crossing(space, a2, b2));
+            prop_assert_eq!(k1.is_some(), s1.is_some());
+            prop_assert_eq!(k2.is_some(), s2.is_some());
+            if let (Some(k1), Some(k2), Some(s1), Some(s2)) = (k1, k2, s1, s2) {
+                // Strictly ordered σ (beyond rounding) have strictly ordered keys.
+                if s1 < s2 - 1e-12 {
+                    prop_assert!(k1 < k2, "σ {s1} < {s2} but keys {k1} ≥ {k2}");
+                }
+                if s2 < s1 - 1e-12 {
+                    prop_assert!(k2 < k1, "σ {s2} < {s1} but keys {k2} ≥ {k1}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn crossing_keys_at_the_edges() {
+        let s2 = Space::new(Geometry::Spherical);
+        // On the line and moving along it: the sign of b's zero decides σ = π or 0, and the
+        // key follows it; moving away: σ = π, the greatest key.
+        assert_eq!(line_crossing(s2, 0.0, 0.0), Some(std::f64::consts::PI));
+        assert_eq!(crossing_key(s2, 0.0, 0.0), Some(1.0));
+        assert_eq!(line_crossing(s2, 0.0, -0.0), Some(0.0));
+        assert_eq!(crossing_key(s2, 0.0, -0.0), Some(-1.0));
+        assert_eq!(crossing_key(s2, 0.0, 1.0), Some(1.0));
+        let h2 = Space::new(Geometry::Hyperbolic);
+        // Asymptotic to the line: no crossing, no key.
+        assert_eq!(crossing_key(h2, 1.0, -1.0), None);
+        assert_eq!(line_crossing(h2, 1.0, -1.0), None);
     }
 }
