@@ -2,14 +2,14 @@
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
-//! [--reference T]` (`--save`
+//! [--reference T] [--crease DEGREES]` (`--save`
 //! writes the raw and denoised PNGs, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
 //! camera rays without their pixel's footprint; `--reference T`:
 //! also the error of the first
 //! image, raw and denoised, against a reference rendered for T seconds: the denoiser's bias
-//! shows there)
+//! shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -48,6 +48,7 @@ struct Args {
     raw_target: bool,
     no_footprint: bool,
     reference: Option<f64>,
+    crease: Option<f64>,
 }
 
 fn parse_args() -> Args {
@@ -61,6 +62,7 @@ fn parse_args() -> Args {
         raw_target: false,
         no_footprint: false,
         reference: None,
+        crease: None,
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -82,13 +84,14 @@ fn parse_args() -> Args {
             "--raw-target" => args.raw_target = true,
             "--no-footprint" => args.no_footprint = true,
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
+            "--crease" => args.crease = Some(value().parse().expect("--crease DEGREES")),
             other => panic!("unknown argument {other}"),
         }
     }
     args
 }
 
-fn scene(signature: &str, mesh: Option<&str>) -> Scene {
+fn scene(signature: &str, mesh: Option<&str>, crease: Option<f64>) -> Scene {
     let mut scene = Scene::default();
     scene.orbifold.signature = signature.into();
     let layout = scene.layout().expect("a valid room");
@@ -97,6 +100,9 @@ fn scene(signature: &str, mesh: Option<&str>) -> Scene {
     let object = &mut scene.objects[0];
     object.at = centre;
     object.size = 0.5;
+    if let Some(crease) = crease {
+        object.crease = crease;
+    }
     if let Some(mesh) = mesh {
         object.mesh = Some(mesh.into());
         object.name = Some("dragon".into());
@@ -210,7 +216,7 @@ fn main() {
         if args.only.as_deref().is_some_and(|o| o != signature) {
             continue;
         }
-        let scene = scene(signature, args.mesh.as_deref());
+        let scene = scene(signature, args.mesh.as_deref(), args.crease);
         let integrator = Integrator::from_scene(
             &scene,
             None,

@@ -37,6 +37,7 @@ use orbifold::space::Space;
 
 use crate::fastmath::{ATAN_FAST_ERROR, LN_FAST_ERROR, asin_fast, asinh_fast, atan2_fast};
 use crate::geodesic::Ray;
+use crate::shading_normal::VertexNormals;
 /// A hit on a mesh's triangle (defined in [`crate::triangle`]).
 pub use crate::triangle::TriangleHit;
 use crate::triangle::{PreparedTriangle, Triangle};
@@ -167,6 +168,8 @@ pub struct Bvh {
     heights: Vec<f64>,
     triangles: Vec<[u32; 3]>,
     depth: usize,
+    /// Smooth shading normals (none: every face is shaded flat).
+    shading: Option<VertexNormals>,
 }
 
 /// Where a ray's horizontal geodesic is inside a disc, in horizontal distance σ.
@@ -817,6 +820,7 @@ impl Bvh {
             heights: heights.to_vec(),
             triangles: triangles.to_vec(),
             depth: 0,
+            shading: None,
         };
         if tris.is_empty() {
             return bvh;
@@ -1029,6 +1033,34 @@ impl Bvh {
     /// The unit surface normal at a hit, see [`Triangle::normal`].
     pub fn normal(&self, space: Space, hit: &TriangleHit) -> Option<(DVec3, f64)> {
         self.triangle(hit.triangle).normal(space, hit.barycentric)
+    }
+
+    /// Shades the mesh smooth: faces whose normals differ by less than `crease` (radians) at a
+    /// shared vertex are shaded as one surface ([`crate::shading_normal`]).
+    pub fn with_smooth_normals(mut self, space: Space, crease: f64) -> Bvh {
+        self.shading = Some(VertexNormals::new(
+            space,
+            &self.points,
+            &self.heights,
+            &self.triangles,
+            crease,
+        ));
+        self
+    }
+
+    /// The crease angle (radians) of its smooth shading, if it is shaded smooth.
+    pub fn crease(&self) -> Option<f64> {
+        self.shading.as_ref().map(VertexNormals::crease)
+    }
+
+    /// The shading normal at a hit: the smooth normal where the mesh is shaded smooth, else the
+    /// face's own [`Bvh::normal`].
+    pub fn shading_normal(&self, space: Space, hit: &TriangleHit) -> Option<(DVec3, f64)> {
+        let smooth = self.shading.as_ref().and_then(|shading| {
+            let vertices = self.triangle(hit.triangle).points;
+            shading.at(space, hit.triangle, vertices, hit.barycentric)
+        });
+        smooth.or_else(|| self.normal(space, hit))
     }
 
     /// The bound of the whole mesh (`None` when it has no triangle).

@@ -43,7 +43,10 @@ fn flatten_instance(curved: Space, instance: &Instance) -> Instance {
         .collect();
     let heights: Vec<f64> = heights.iter().map(|h| h + instance.height).collect();
     let flat = flat_space();
-    let bvh = Bvh::build(flat, &points, &heights, triangles);
+    let mut bvh = Bvh::build(flat, &points, &heights, triangles);
+    if let Some(crease) = instance.bvh.crease() {
+        bvh = bvh.with_smooth_normals(flat, crease);
+    }
     let origin = Placement {
         at: Complex64::new(0.0, 0.0),
         height: 0.0,

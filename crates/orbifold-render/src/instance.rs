@@ -103,6 +103,13 @@ impl Instance {
         Some((self.to_world * n, up))
     }
 
+    /// The shading normal at a hit (smooth where the mesh is shaded smooth), in the world
+    /// tangent space at the hit (see [`crate::bvh::Bvh::shading_normal`]).
+    pub fn shading_normal(&self, space: Space, hit: &TriangleHit) -> Option<(DVec3, f64)> {
+        let (n, up) = self.bvh.shading_normal(space, hit)?;
+        Some((self.to_world * n, up))
+    }
+
     /// The world bound of the whole object.
     fn world_bound(&self) -> Option<Bound> {
         self.bvh.bound().map(|b| Bound {

@@ -515,6 +515,53 @@ pub struct Integrator {
     spheres: Vec<(usize, Sphere, Rgb)>,
 }
 
+/// How far above a shading normal's horizon the outgoing direction is kept (cosine).
+const SHADING_HORIZON: f64 = 0.02;
+
+/// The shading normal `shading`, bent towards the surface's own normal `geometric` (both on the
+/// same side of the surface) just enough that the outgoing direction `wo` stays at least
+/// [`SHADING_HORIZON`] above it: interpolated normals tilt away from a viewer near a silhouette,
+/// and a BSDF would see the eye below its surface there and go black. Where `wo` grazes the
+/// surface itself, the surface's own normal.
+fn bent_shading_normal(shading: DVec3, geometric: DVec3, wo: DVec3) -> DVec3 {
+    if shading == geometric {
+        return shading;
+    }
+    // The side of the surface wo is on (a dielectric's normals may face away from it).
+    let side = if wo.dot(geometric) < 0.0 { -1.0 } else { 1.0 };
+    let (g, n) = (geometric * side, shading * side);
+    let (above, above_g) = (wo.dot(n), wo.dot(g));
+    if n.dot(g) <= 0.0 || above_g <= SHADING_HORIZON {
+        return geometric;
+    }
+    if above >= SHADING_HORIZON {
+        return shading;
+    }
+    // (n + t g)·wo ≥ ε|n + t g|, with |n + t g| ≤ 1 + t.
+    let t = (SHADING_HORIZON - above) / (above_g - SHADING_HORIZON);
+    (n + g * t).normalize() * side
+}
+
+/// Which side of a surface directions are on, by its own normal: with a smooth shading normal a
+/// direction can look reflected to the BSDF and yet go into the surface, or the other way round.
+/// Such directions carry no light (as in pbrt), which keeps the surface opaque.
+struct Sides {
+    /// The surface's own unit normal.
+    geometric: DVec3,
+    /// The direction towards where the path came from.
+    wo: DVec3,
+}
+
+impl Sides {
+    /// Whether `wi` is on the same side of the shading normal `normal` as of the surface itself
+    /// (relative to `wo`).
+    fn agree(&self, normal: DVec3, wi: DVec3) -> bool {
+        let reflected_by_shading = wi.dot(normal) * self.wo.dot(normal) > 0.0;
+        let reflected = wi.dot(self.geometric) * self.wo.dot(self.geometric) > 0.0;
+        reflected_by_shading == reflected
+    }
+}
+
 fn luminance(c: Rgb) -> f64 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
@@ -951,14 +998,15 @@ impl Integrator {
         }
     }
 
-    /// The unit normal (local coordinates in `frame`) and the BSDF where a march ended; with the
+    /// The unit normals (local coordinates in `frame`: the surface's own, then the shading
+    /// normal, which differs on smooth-shaded objects) and the BSDF where a march ended; with the
     /// camera ray's `spread` there, textures are averaged over its pixel's footprint.
     fn surface(
         &self,
         near: &Near,
         frame: &TangentFrame,
         spread: Option<&Spread>,
-    ) -> Option<(DVec3, Bsdf)> {
+    ) -> Option<(DVec3, DVec3, Bsdf)> {
         let space = self.space();
         let moved = |offset: DVec3| {
             if offset == DVec3::ZERO {
@@ -987,10 +1035,11 @@ impl Integrator {
         };
         match near.struck {
             Struck::Surface(SurfaceId::Floor, _) => {
-                Some((DVec3::Z, self.floor.bsdf(&lookup(DVec3::Z))))
+                Some((DVec3::Z, DVec3::Z, self.floor.bsdf(&lookup(DVec3::Z))))
             }
             Struck::Surface(SurfaceId::Ceiling, _) => {
-                Some((-DVec3::Z, self.ceiling.bsdf(&lookup(-DVec3::Z))))
+                let n = -DVec3::Z;
+                Some((n, n, self.ceiling.bsdf(&lookup(n))))
             }
             Struck::Surface(SurfaceId::Wall(w), _) => {
                 let room = &self.tracer.room;
@@ -1007,7 +1056,7 @@ impl Integrator {
                     coords: &wall,
                     footprint: spread.map(|s| s.axes(n)),
                 };
-                Some((n, self.walls[w].bsdf(&lookup)))
+                Some((n, n, self.walls[w].bsdf(&lookup)))
             }
             Struck::Surface(SurfaceId::Object(i), triangle) => {
                 let (triangle, barycentric) = triangle?;
@@ -1019,7 +1068,9 @@ impl Integrator {
                 let instance = &self.tracer.objects.instances()[i];
                 let (h, v) = instance.normal(space, &hit)?;
                 let n = frame.to_local(space, h, v).try_normalize()?;
-                Some((n, self.objects[i].bsdf(&lookup(n))))
+                let (h, v) = instance.shading_normal(space, &hit)?;
+                let shading = frame.to_local(space, h, v).try_normalize().unwrap_or(n);
+                Some((n, shading, self.objects[i].bsdf(&lookup(n))))
             }
             Struck::Light(..) => None,
         }
@@ -1054,10 +1105,11 @@ impl Integrator {
         h: f64,
         frame: &TangentFrame,
         shading: &Frame,
-        wo: DVec3,
+        sides: &Sides,
         bsdf: &Bsdf,
     ) -> Rgb {
         let space = self.space();
+        let wo = sides.wo;
         let up = shading.normal().z;
         let Some((index, pmf)) = self.pick_entry(x, h, up, sampler.next_f64()) else {
             return [0.0; 3];
@@ -1077,6 +1129,9 @@ impl Integrator {
             return [0.0; 3];
         };
         let wi = travel_direction(space, frame, &link.ray, 0.0);
+        if !sides.agree(shading.normal(), wi) {
+            return [0.0; 3];
+        }
         let f = bsdf.eval(shading.to_local(wo), shading.to_local(wi));
         let cos_x = wi.dot(shading.normal()).abs();
         if luminance(f) <= 0.0 || cos_x == 0.0 {
@@ -1238,20 +1293,22 @@ impl Integrator {
                 widths: f.widths(space, march.length, march.ray.cos_elevation),
                 travel,
             });
-            let Some((normal, bsdf)) = self.surface(&near, &frame, spread.as_ref()) else {
+            let Some((geometric, normal, bsdf)) = self.surface(&near, &frame, spread.as_ref())
+            else {
                 break;
             };
             if !bsdf.is_transmissive() {
                 add(&mut radiance, mul(beta, self.settings.glow));
             }
-            // Opaque surfaces are two-sided: face the normal towards where the path came from.
+            // Opaque surfaces are two-sided: face the normals towards where the path came from.
             // A dielectric keeps its outward normal: which side the path is on matters.
             let wo = -travel;
-            let normal = if normal.dot(wo) < 0.0 && !bsdf.is_transmissive() {
-                -normal
+            let (geometric, normal) = if geometric.dot(wo) < 0.0 && !bsdf.is_transmissive() {
+                (-geometric, -normal)
             } else {
-                normal
+                (geometric, normal)
             };
+            let normal = bent_shading_normal(normal, geometric, wo);
             let shading = Frame::from_normal(normal);
             if depth == 0 {
                 first = Some(FirstHit {
@@ -1269,7 +1326,8 @@ impl Integrator {
             sampler.start_bounce(depth);
             depth += 1;
             if self.settings.nee && !bsdf.is_delta() {
-                let direct = self.direct(sampler, x, h, &frame, &shading, wo, &bsdf);
+                let sides = Sides { geometric, wo };
+                let direct = self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf);
                 add(&mut radiance, mul(beta, direct));
             }
             let Some(sample) =
@@ -1278,6 +1336,9 @@ impl Integrator {
                 break;
             };
             let wi = shading.to_world(sample.wi);
+            if !(Sides { geometric, wo }).agree(normal, wi) {
+                break;
+            }
             beta = mul(beta, sample.weight);
             specular = sample.delta;
             pdf_bsdf = sample.pdf;
@@ -1318,7 +1379,59 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    fn unit_vector() -> impl Strategy<Value = DVec3> {
+        (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0)
+            .prop_filter("not too short", |v| {
+                DVec3::new(v.0, v.1, v.2).length() > 0.1
+            })
+            .prop_map(|v| DVec3::new(v.0, v.1, v.2).normalize())
+    }
+
     proptest! {
+        /// A bent shading normal is unit, on the surface's side of the geometric one, keeps the
+        /// outgoing direction above its horizon, and is the shading normal itself whenever that
+        /// already does.
+        #[test]
+        fn a_bent_shading_normal_keeps_the_eye_above_it(
+            geometric in unit_vector(),
+            tilt in unit_vector(),
+            wo in unit_vector(),
+            amount in 0.0f64..1.5,
+            outward in any::<bool>(),
+        ) {
+            let geometric = if outward { geometric } else { -geometric };
+            let shading = (geometric + tilt * amount).normalize();
+            prop_assume!(shading.dot(geometric) > 0.0);
+            let bent = bent_shading_normal(shading, geometric, wo);
+            prop_assert!((bent.length() - 1.0).abs() < 1e-12);
+            prop_assert!(bent.dot(geometric) > 0.0);
+            let side = wo.dot(geometric).signum();
+            if (wo.dot(geometric) * side) > SHADING_HORIZON {
+                prop_assert!(wo.dot(bent) * side >= SHADING_HORIZON - 1e-12);
+            } else {
+                prop_assert_eq!(bent, geometric);
+            }
+            if wo.dot(shading) * side >= SHADING_HORIZON && wo.dot(geometric) * side > SHADING_HORIZON {
+                prop_assert_eq!(bent, shading);
+            }
+        }
+
+        /// With the geometric normal as shading normal every direction agrees; with a tilted one,
+        /// a direction agrees exactly when it is on the same side of both (relative to wo).
+        #[test]
+        fn sides_agree_when_both_normals_say_the_same(
+            geometric in unit_vector(),
+            tilt in unit_vector(),
+            wo in unit_vector(),
+            wi in unit_vector(),
+        ) {
+            let sides = Sides { geometric, wo };
+            prop_assert!(sides.agree(geometric, wi));
+            let shading = (geometric + tilt * 0.5).normalize();
+            let same = |n: DVec3| (wi.dot(n) > 0.0) == (wo.dot(n) > 0.0);
+            prop_assert_eq!(sides.agree(shading, wi), same(shading) == same(geometric));
+        }
+
         /// The box-filtered square wave is the mean of the wave over the box (midpoint rule
         /// with 20 000 points), and stays in [−1, 1].
         #[test]

@@ -22,6 +22,7 @@ pub mod instance;
 pub mod integrator;
 pub mod light;
 pub mod render;
+pub mod shading_normal;
 mod texture;
 pub mod tracer;
 pub mod triangle;

@@ -165,7 +165,10 @@ impl Tracer {
             }
             let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
             let embedded = embed(space, &mesh.positions, centre, object.size / extent);
-            let bvh = Bvh::build(space, &embedded.points, &embedded.heights, &mesh.triangles);
+            let mut bvh = Bvh::build(space, &embedded.points, &embedded.heights, &mesh.triangles);
+            if object.crease > 0.0 {
+                bvh = bvh.with_smooth_normals(space, object.crease.to_radians());
+            }
             let placement = Placement {
                 at: Complex64::new(object.at[0], object.at[1]),
                 height: object.height,

@@ -103,6 +103,35 @@ fn light_sampling_through_mirrors_agrees_with_brute_force() {
 }
 
 #[test]
+fn light_sampling_agrees_with_brute_force_on_smooth_shaded_objects() {
+    // Smooth shading normals differ from the faces' own: both estimators must treat the
+    // directions that the two normals put on different sides alike.
+    for signature in ["*235", "*2222", "*2223"] {
+        let mut scene = scene(signature, LightKind::Sphere);
+        let c = scene.lights[0].at;
+        for (shape, dx, crease) in [("sphere", 0.12, 90.0), ("torus", -0.12, 60.0)] {
+            scene.objects.push(orbifold_scene::Object {
+                shape: shape.into(),
+                at: [c[0] + dx, c[1]],
+                size: 0.2,
+                crease,
+                ..Default::default()
+            });
+        }
+        let nee = image(&scene, true, 64, 1);
+        let brute = image(&scene, false, 512, 2);
+        let (a, ea) = mean_and_error(&nee);
+        let (b, eb) = mean_and_error(&brute);
+        assert!(a > 0.0 && b > 0.0, "{signature}: {a} {b}");
+        let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * a;
+        assert!(
+            (a - b).abs() < tolerance,
+            "{signature}: NEE {a} ± {ea}, brute force {b} ± {eb}"
+        );
+    }
+}
+
+#[test]
 fn point_lights_light_the_room_through_mirrors() {
     // With the direct view of a point light blocked by nothing, mirrors add light: the same
     // room with mirrors is brighter than without.

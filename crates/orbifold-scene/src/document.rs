@@ -332,6 +332,10 @@ pub struct Object {
     pub yaw: f64,
     /// Size: the object's largest extent, in intrinsic units.
     pub size: f64,
+    /// Crease angle in degrees for smooth shading: faces that meet at a vertex with normals
+    /// less than this apart are shaded as one smooth surface, and bend more than this stays a
+    /// sharp edge. 0 shades every face flat.
+    pub crease: f64,
     /// Its material.
     pub material: Material,
 }
@@ -346,6 +350,7 @@ impl Default for Object {
             height: 0.0,
             yaw: 0.0,
             size: 0.5,
+            crease: 60.0,
             material: Material::Color {
                 color: [0.85, 0.85, 0.8],
             },

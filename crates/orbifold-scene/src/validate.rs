@@ -105,6 +105,14 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
         );
         finite(&mut p, &format!("{key}.yaw"), &[o.yaw]);
         positive(&mut p, &format!("{key}.size"), o.size);
+        range(
+            &mut p,
+            &format!("{key}.crease"),
+            o.crease,
+            0.0,
+            180.0,
+            "an angle in degrees from 0 (flat faces) to 180",
+        );
         material(&mut p, &format!("{key}.material"), &o.material, base);
     }
     for (i, l) in scene.lights.iter().enumerate() {

@@ -126,6 +126,7 @@ shape = "teapot"
 [[objects]]
 mesh = "no/such/file.obj"
 at = [0.99, 0.0]
+crease = 200
 
 [[lights]]
 height = 5.0
@@ -149,10 +150,11 @@ to = 0.2
         ("objects[0].shape", 3),
         ("objects[1].mesh", 6),
         ("objects[1].at", 7),
-        ("lights[0].height", 10),
-        ("camera.fov", 13),
-        ("walls[0].index", 16),
-        ("walls[0].mirrors[0].from", 19),
+        ("objects[1].crease", 8),
+        ("lights[0].height", 11),
+        ("camera.fov", 14),
+        ("walls[0].index", 17),
+        ("walls[0].mirrors[0].from", 20),
     ] {
         assert!(
             keys.contains(&(key.to_string(), line)),

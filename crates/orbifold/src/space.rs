@@ -340,6 +340,30 @@ impl Space {
         v / self.point_dot(v, v).sqrt()
     }
 
+    /// Parallel transport of the tangent vector `v` at `p` along the geodesic to `q`:
+    /// v − κ⟨q, v⟩/(1 + κ⟨p, q⟩)·(p + q), which is the identity for κ = 0. It keeps
+    /// [`Space::point_dot`] and carries the geodesic's own tangent at `p` to its tangent at `q`.
+    /// `p` and `q` must not be antipodal.
+    ///
+    /// ```
+    /// use orbifold::space::Space;
+    /// use orbifold::Geometry;
+    /// use num_complex::Complex64;
+    /// let s = Space::new(Geometry::Spherical);
+    /// let (p, q) = (s.to_ambient(Complex64::new(0.1, 0.2)), s.to_ambient(Complex64::new(-0.4, 0.3)));
+    /// // The direction from p to q arrives as the direction away from p.
+    /// let t = s.transport(p, q, s.log(p, q));
+    /// assert!((t + s.log(q, p)).length() < 1e-14);
+    /// ```
+    #[inline]
+    pub fn transport(&self, p: DVec3, q: DVec3, v: DVec3) -> DVec3 {
+        if self.kappa == 0.0 {
+            return v;
+        }
+        let k = self.kappa;
+        v - (p + q) * (k * self.point_dot(q, v) / (1.0 + k * self.point_dot(p, q)))
+    }
+
     /// The tangent vector at `p` turned a quarter turn counter-clockwise (seen from above, the
     /// model's orientation): J v = G(p × v) with G = diag(1, 1, κ), for every κ.
     #[inline]
@@ -405,5 +429,35 @@ mod tests {
         let (_, s) = h2.cos_sin(1e-10);
         assert!((s - 1e-10).abs() < 1e-25);
         assert_eq!(h2.cos_sin(1e4), (f64::INFINITY, f64::INFINITY));
+    }
+
+    proptest! {
+        /// Parallel transport keeps inner products, lands in the tangent space at the far end
+        /// and is undone by transporting back, in every geometry.
+        #[test]
+        fn transport_is_an_isometry_between_tangent_spaces(
+            g in 0usize..3,
+            z in (-0.8f64..0.8, -0.8f64..0.8),
+            w in (-0.8f64..0.8, -0.8f64..0.8),
+            a in (-2.0f64..2.0, -2.0f64..2.0),
+            b in (-2.0f64..2.0, -2.0f64..2.0),
+        ) {
+            let space = Space::new([Geometry::Spherical, Geometry::Euclidean, Geometry::Hyperbolic][g]);
+            let (z, w) = (Complex64::new(z.0, z.1), Complex64::new(w.0, w.1));
+            let (p, q) = (space.to_ambient(z), space.to_ambient(w));
+            let tangent = |c: (f64, f64)| {
+                space.model_tangent(z, Complex64::new(1.0, 0.0)) * c.0
+                    + space.model_tangent(z, Complex64::new(0.0, 1.0)) * c.1
+            };
+            let (u, v) = (tangent(a), tangent(b));
+            let (tu, tv) = (space.transport(p, q, u), space.transport(p, q, v));
+            let scale = 1.0 + u.length() * v.length();
+            prop_assert!((space.point_dot(tu, tv) - space.point_dot(u, v)).abs() < 1e-9 * scale);
+            prop_assert!(space.point_dot(q, tu).abs() < 1e-9 * (1.0 + u.length()) || g == 1);
+            prop_assert!((space.transport(q, p, tu) - u).length() < 1e-9 * (1.0 + u.length()));
+            // The geodesic's own direction is carried along it.
+            let there = space.transport(p, q, space.log(p, q));
+            prop_assert!((there + space.log(q, p)).length() < 1e-9);
+        }
     }
 }
