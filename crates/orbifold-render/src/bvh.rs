@@ -911,6 +911,37 @@ impl Bvh {
         s_min: f64,
         s_max: f64,
     ) -> Option<TriangleHit> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::has_avx2_fma() {
+            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
+            // requires), checked just above.
+            #[allow(unsafe_code)]
+            return unsafe { self.intersect_avx2(space, ray, s_min, s_max) };
+        }
+        self.intersect_portable(space, ray, s_min, s_max)
+    }
+
+    /// [`Bvh::intersect`] compiled for AVX2 and FMA (see `crate::cpu`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn intersect_avx2(
+        &self,
+        space: Space,
+        ray: &Ray,
+        s_min: f64,
+        s_max: f64,
+    ) -> Option<TriangleHit> {
+        self.intersect_portable(space, ray, s_min, s_max)
+    }
+
+    #[inline(always)]
+    fn intersect_portable(
+        &self,
+        space: Space,
+        ray: &Ray,
+        s_min: f64,
+        s_max: f64,
+    ) -> Option<TriangleHit> {
         debug_assert_eq!(
             space.kappa(),
             self.kappa,
@@ -977,6 +1008,25 @@ impl Bvh {
 
     /// Whether the ray meets any triangle at arc length in `[s_min, s_max]` (for shadow rays).
     pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::has_avx2_fma() {
+            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
+            // requires), checked just above.
+            #[allow(unsafe_code)]
+            return unsafe { self.occluded_avx2(space, ray, s_min, s_max) };
+        }
+        self.occluded_portable(space, ray, s_min, s_max)
+    }
+
+    /// [`Bvh::occluded`] compiled for AVX2 and FMA (see `crate::cpu`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn occluded_avx2(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+        self.occluded_portable(space, ray, s_min, s_max)
+    }
+
+    #[inline(always)]
+    fn occluded_portable(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
         debug_assert_eq!(
             space.kappa(),
             self.kappa,
@@ -1149,6 +1199,57 @@ mod tests {
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// The AVX2 copies of the traversals return exactly what the portable ones do (the same
+    /// operations, wider registers): a random soup of triangles, random rays, every geometry.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn the_avx2_traversals_are_the_portable_ones_bit_for_bit() {
+        if !crate::cpu::has_avx2_fma() {
+            eprintln!("skipped: no AVX2 and FMA here");
+            return;
+        }
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let mut u = uniforms(7);
+            let point = |u: &mut dyn FnMut() -> f64| {
+                let v = DVec3::new(u() - 0.5, u() - 0.5, 0.0) * 1.6;
+                (space.exp(DVec3::Z, v), u())
+            };
+            let (points, heights): (Vec<DVec3>, Vec<f64>) = (0..600).map(|_| point(&mut u)).unzip();
+            let triangles: Vec<[u32; 3]> =
+                (0..200).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+            let bvh = Bvh::build(space, &points, &heights, &triangles);
+            let mut hits = 0;
+            for _ in 0..2000 {
+                let (origin, h) = point(&mut u);
+                let angle = std::f64::consts::TAU * u();
+                let direction = DVec3::new(angle.cos(), angle.sin(), 0.0);
+                let direction = space.transport(DVec3::Z, origin, direction);
+                let ray = Ray::new(space, origin, direction, h, 1.4 * (u() - 0.5));
+                let s_max = 4.0 * u();
+                let portable = bvh.intersect_portable(space, &ray, 0.0, s_max);
+                #[allow(unsafe_code)]
+                // SAFETY: AVX2 and FMA are present (checked above).
+                let avx2 = unsafe { bvh.intersect_avx2(space, &ray, 0.0, s_max) };
+                assert_eq!(
+                    portable.map(|h| (h.s.to_bits(), h.triangle)),
+                    avx2.map(|h| (h.s.to_bits(), h.triangle))
+                );
+                hits += usize::from(avx2.is_some());
+                let portable = bvh.occluded_portable(space, &ray, 0.0, s_max);
+                #[allow(unsafe_code)]
+                // SAFETY: as above.
+                let avx2 = unsafe { bvh.occluded_avx2(space, &ray, 0.0, s_max) };
+                assert_eq!(portable, avx2);
+            }
+            assert!(hits > 100, "{g:?}: only {hits} hits");
         }
     }
 

@@ -735,6 +735,31 @@ impl Integrator {
     /// (|n_h| σ + up·Δh)/ℓ — exact on the floor and the ceiling, where it falls off as Δh/ℓ and
     /// makes far images weigh as 1/ℓ³ rather than 1/ℓ².
     fn near_weights(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if crate::cpu::has_avx2_fma() {
+            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
+            // requires), checked just above.
+            #[allow(unsafe_code)]
+            return unsafe { self.near_weights_avx2(x, h, up, weights) };
+        }
+        self.near_weights_portable(x, h, up, weights)
+    }
+
+    /// [`Integrator::near_weights`] compiled for AVX2 and FMA (see `crate::cpu`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn near_weights_avx2(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+        self.near_weights_portable(x, h, up, weights)
+    }
+
+    #[inline(always)]
+    fn near_weights_portable(
+        &self,
+        x: DVec3,
+        h: f64,
+        up: f64,
+        weights: &mut [f64; NEAR_MAX],
+    ) -> f64 {
         let space = self.space();
         let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
         let at = (x, h, up, floor);

@@ -14,6 +14,7 @@ pub mod tiling;
 pub mod aov;
 pub mod bsdf;
 pub mod bvh;
+mod cpu;
 pub mod denoise;
 mod fastmath;
 pub mod flat;
