@@ -35,6 +35,7 @@ use arrayvec::ArrayVec;
 use glam::DVec3;
 use orbifold::space::Space;
 
+use crate::cpu::with_avx2;
 use crate::fastmath::{ATAN_FAST_ERROR, LN_FAST_ERROR, asin_fast, asinh_fast, atan2_fast};
 use crate::geodesic::Ray;
 use crate::shading_normal::VertexNormals;
@@ -911,27 +912,10 @@ impl Bvh {
         s_min: f64,
         s_max: f64,
     ) -> Option<TriangleHit> {
-        #[cfg(target_arch = "x86_64")]
-        if crate::cpu::has_avx2_fma() {
-            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
-            // requires), checked just above.
-            #[allow(unsafe_code)]
-            return unsafe { self.intersect_avx2(space, ray, s_min, s_max) };
-        }
-        self.intersect_portable(space, ray, s_min, s_max)
-    }
-
-    /// [`Bvh::intersect`] compiled for AVX2 and FMA (see `crate::cpu`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn intersect_avx2(
-        &self,
-        space: Space,
-        ray: &Ray,
-        s_min: f64,
-        s_max: f64,
-    ) -> Option<TriangleHit> {
-        self.intersect_portable(space, ray, s_min, s_max)
+        with_avx2!(
+            Bvh,
+            self.intersect_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> Option<TriangleHit>
+        )
     }
 
     #[inline(always)]
@@ -1008,21 +992,10 @@ impl Bvh {
 
     /// Whether the ray meets any triangle at arc length in `[s_min, s_max]` (for shadow rays).
     pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if crate::cpu::has_avx2_fma() {
-            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
-            // requires), checked just above.
-            #[allow(unsafe_code)]
-            return unsafe { self.occluded_avx2(space, ray, s_min, s_max) };
-        }
-        self.occluded_portable(space, ray, s_min, s_max)
-    }
-
-    /// [`Bvh::occluded`] compiled for AVX2 and FMA (see `crate::cpu`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn occluded_avx2(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
-        self.occluded_portable(space, ray, s_min, s_max)
+        with_avx2!(
+            Bvh,
+            self.occluded_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool
+        )
     }
 
     #[inline(always)]
@@ -1202,8 +1175,9 @@ mod tests {
         }
     }
 
-    /// The AVX2 copies of the traversals return exactly what the portable ones do (the same
-    /// operations, wider registers): a random soup of triangles, random rays, every geometry.
+    /// The AVX2 copies of the traversals (what `intersect` and `occluded` run on a processor
+    /// with AVX2) return exactly what the portable ones do (the same operations, wider
+    /// registers): a random soup of triangles, random rays, every geometry.
     #[test]
     #[cfg(target_arch = "x86_64")]
     fn the_avx2_traversals_are_the_portable_ones_bit_for_bit() {
@@ -1235,18 +1209,14 @@ mod tests {
                 let ray = Ray::new(space, origin, direction, h, 1.4 * (u() - 0.5));
                 let s_max = 4.0 * u();
                 let portable = bvh.intersect_portable(space, &ray, 0.0, s_max);
-                #[allow(unsafe_code)]
-                // SAFETY: AVX2 and FMA are present (checked above).
-                let avx2 = unsafe { bvh.intersect_avx2(space, &ray, 0.0, s_max) };
+                let avx2 = bvh.intersect(space, &ray, 0.0, s_max);
                 assert_eq!(
                     portable.map(|h| (h.s.to_bits(), h.triangle)),
                     avx2.map(|h| (h.s.to_bits(), h.triangle))
                 );
                 hits += usize::from(avx2.is_some());
                 let portable = bvh.occluded_portable(space, &ray, 0.0, s_max);
-                #[allow(unsafe_code)]
-                // SAFETY: as above.
-                let avx2 = unsafe { bvh.occluded_avx2(space, &ray, 0.0, s_max) };
+                let avx2 = bvh.occluded(space, &ray, 0.0, s_max);
                 assert_eq!(portable, avx2);
             }
             assert!(hits > 100, "{g:?}: only {hits} hits");

@@ -19,3 +19,33 @@ pub(crate) fn has_avx2_fma() -> bool {
         false
     }
 }
+
+/// Calls the method `$portable` of `$self` (of type `$Type`; the method must be
+/// `#[inline(always)]`, so that it is compiled anew inside the copy) through a copy compiled for
+/// AVX2 and FMA when the processor has them, and directly otherwise. Used as the whole body of
+/// a dispatching method:
+///
+/// ```ignore
+/// pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+///     with_avx2!(Bvh, self.occluded_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool)
+/// }
+/// ```
+macro_rules! with_avx2 {
+    ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2(this: &$Type, $($arg: $ty),*) -> $ret {
+                this.$portable($($arg),*)
+            }
+            if $crate::cpu::has_avx2_fma() {
+                // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
+                // requires), checked just above.
+                #[allow(unsafe_code)]
+                return unsafe { avx2($self, $($arg),*) };
+            }
+        }
+        $self.$portable($($arg),*)
+    }};
+}
+pub(crate) use with_avx2;

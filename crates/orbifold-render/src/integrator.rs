@@ -735,21 +735,15 @@ impl Integrator {
     /// (|n_h| σ + up·Δh)/ℓ — exact on the floor and the ceiling, where it falls off as Δh/ℓ and
     /// makes far images weigh as 1/ℓ³ rather than 1/ℓ².
     fn near_weights(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
-        #[cfg(target_arch = "x86_64")]
-        if crate::cpu::has_avx2_fma() {
-            // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
-            // requires), checked just above.
-            #[allow(unsafe_code)]
-            return unsafe { self.near_weights_avx2(x, h, up, weights) };
-        }
-        self.near_weights_portable(x, h, up, weights)
-    }
-
-    /// [`Integrator::near_weights`] compiled for AVX2 and FMA (see `crate::cpu`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn near_weights_avx2(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
-        self.near_weights_portable(x, h, up, weights)
+        crate::cpu::with_avx2!(
+            Integrator,
+            self.near_weights_portable(
+                x: DVec3,
+                h: f64,
+                up: f64,
+                weights: &mut [f64; NEAR_MAX],
+            ) -> f64
+        )
     }
 
     #[inline(always)]
