@@ -1,6 +1,7 @@
 //! Room design (seed §5.2): height and tessellation; per wall, mirrors that can be added,
 //! removed, resized, coloured and given a reflectance; floor and ceiling colour or checkerboard;
-//! objects (built-in shapes or a mesh file) with position, height, yaw, size and colour; lights
+//! objects (built-in shapes or a mesh file) with position, height, yaw, size, crease angle for
+//! smooth shading and colour; lights
 //! with position, colour and power.
 
 use egui::{Color32, Ui};
@@ -284,6 +285,13 @@ fn objects(ui: &mut Ui, scene: &mut Scene) {
                 &mut object.size,
                 0.01..=20.0,
                 0.005,
+            );
+            labelled_value(
+                ui,
+                &format!("{name} crease"),
+                &mut object.crease,
+                0.0..=180.0,
+                1.0,
             );
             if let Material::Color { color } = &mut object.material {
                 colour(ui, &format!("{name} colour"), color);

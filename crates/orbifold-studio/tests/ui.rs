@@ -255,6 +255,17 @@ fn typing_in_a_field_is_one_undo_step() {
 }
 
 #[test]
+fn an_object_s_crease_angle_is_set_in_the_room_panel() {
+    let mut harness = harness(Scene::default());
+    assert_eq!(harness.state().document.scene().objects[0].crease, 60.0);
+    set(&mut harness, "object 0 crease", 0.0);
+    assert_eq!(harness.state().document.scene().objects[0].crease, 0.0);
+    // The field keeps to the angles a scene file may hold.
+    set(&mut harness, "object 0 crease", 400.0);
+    assert_eq!(harness.state().document.scene().objects[0].crease, 180.0);
+}
+
+#[test]
 fn undo_and_redo_walk_the_history() {
     let mut harness = harness(Scene::default());
     let original = harness.state().document.scene().clone();
