@@ -1470,6 +1470,40 @@ mod tests {
     }
 
     #[test]
+    fn the_avx2_light_image_weights_are_the_portable_ones_bit_for_bit() {
+        // What `near_weights` runs on a processor with AVX2 against the portable body, at random
+        // points of a spherical, a Euclidean and a hyperbolic room of mirrors.
+        for signature in ["*235", "*2222", "*2223"] {
+            let mut scene = orbifold_scene::Scene::default();
+            scene.orbifold.signature = signature.into();
+            scene.lights[0].kind = orbifold_scene::LightKind::Sphere;
+            let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+            let space = integrator.space();
+            let mut seed = 11u64;
+            let mut u = move || {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (seed >> 11) as f64 / (1u64 << 53) as f64
+            };
+            for _ in 0..500 {
+                let v = DVec3::new(u() - 0.5, u() - 0.5, 0.0) * 0.4;
+                let x = space.exp(
+                    integrator.centre,
+                    space.transport(DVec3::Z, integrator.centre, v),
+                );
+                let (h, up) = (u(), 2.0 * u() - 1.0);
+                let (mut a, mut b) = ([0.0; NEAR_MAX], [0.0; NEAR_MAX]);
+                let total_a = integrator.near_weights(x, h, up, &mut a);
+                let total_b = integrator.near_weights_portable(x, h, up, &mut b);
+                assert_eq!(total_a.to_bits(), total_b.to_bits(), "{signature}");
+                assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{signature}");
+                assert!(total_a > 0.0, "{signature}");
+            }
+        }
+    }
+
+    #[test]
     fn a_footprint_on_the_floor_stretches_along_a_grazing_ray() {
         // A ray 10° below the horizon along +x meets the floor: the footprint's height becomes
         // height / sin 10° along x, its width stays across (y).
