@@ -203,6 +203,10 @@ pub struct ImageArgs {
     /// alone and point-sample checkerboards (noisier; for comparing with other renderers).
     #[arg(long)]
     pub no_footprint: bool,
+    /// Trace every path in full: no radiance cache for far mirror images and indirect light
+    /// (unbiased but noisier; for references and for comparing with other renderers).
+    #[arg(long)]
+    pub no_radiance_cache: bool,
     /// Denoise the image (the default for PNG and JPEG): an edge-avoiding filter guided by the
     /// albedo, normal and depth each pixel saw first and by its own noise.
     #[arg(long, conflicts_with = "no_denoise")]

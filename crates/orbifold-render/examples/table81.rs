@@ -2,14 +2,14 @@
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
-//! [--reference T] [--crease DEGREES]` (`--save`
+//! [--no-cache] [--reference T] [--crease DEGREES]` (`--save`
 //! writes the raw and denoised PNGs, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
-//! camera rays without their pixel's footprint; `--reference T`:
-//! also the error of the first
-//! image, raw and denoised, against a reference rendered for T seconds: the denoiser's bias
-//! shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces)
+//! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
+//! the radiance cache; `--reference T`: also the error of the first image, raw and denoised,
+//! against a reference rendered for T seconds without the radiance cache: the bias of the
+//! denoiser and of the cache shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -47,6 +47,7 @@ struct Args {
     uniform: bool,
     raw_target: bool,
     no_footprint: bool,
+    no_cache: bool,
     reference: Option<f64>,
     crease: Option<f64>,
 }
@@ -61,6 +62,7 @@ fn parse_args() -> Args {
         uniform: false,
         raw_target: false,
         no_footprint: false,
+        no_cache: false,
         reference: None,
         crease: None,
     };
@@ -83,6 +85,7 @@ fn parse_args() -> Args {
             "--uniform" => args.uniform = true,
             "--raw-target" => args.raw_target = true,
             "--no-footprint" => args.no_footprint = true,
+            "--no-cache" => args.no_cache = true,
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             "--crease" => args.crease = Some(value().parse().expect("--crease DEGREES")),
             other => panic!("unknown argument {other}"),
@@ -217,18 +220,15 @@ fn main() {
             continue;
         }
         let scene = scene(signature, args.mesh.as_deref(), args.crease);
-        let integrator = Integrator::from_scene(
-            &scene,
-            None,
-            Settings {
-                max_depth: 50,
-                pixel_footprint: !args.no_footprint,
-                ..Settings::default()
-            },
-        )
-        .expect("the scene builds");
+        let settings = Settings {
+            max_depth: 50,
+            pixel_footprint: !args.no_footprint,
+            radiance_cache: !args.no_cache,
+            ..Settings::default()
+        };
+        let integrator = Integrator::from_scene(&scene, None, settings).expect("the scene builds");
         let camera = Camera::new(integrator.space(), &scene.camera);
-        let run_for = |seed, seconds: f64| {
+        let run_with = |integrator: &Integrator, seed, seconds: f64| {
             let options = RenderOptions {
                 width: args.size,
                 height: args.size,
@@ -240,14 +240,14 @@ fn main() {
                 denoised: !args.raw_target,
             };
             render(
-                &integrator,
+                integrator,
                 &camera,
                 &options,
                 &AtomicBool::new(false),
                 &|_, _| {},
             )
         };
-        let run = |seed| run_for(seed, args.seconds);
+        let run = |seed| run_with(&integrator, seed, args.seconds);
         let (a, b) = (run(1), run(2));
         let exposure = a.film.auto_exposure();
         let start = Instant::now();
@@ -307,7 +307,17 @@ fn main() {
             );
         }
         if let Some(seconds) = args.reference {
-            let reference = run_for(3, seconds);
+            // The reference traces every path in full: no radiance cache, whose bias shows.
+            let full = Integrator::from_scene(
+                &scene,
+                None,
+                Settings {
+                    radiance_cache: false,
+                    ..settings
+                },
+            )
+            .expect("the scene builds");
+            let reference = run_with(&full, 3, seconds);
             let spp = reference.paths as f64 / f64::from(args.size).powi(2);
             if let Some(dir) = &args.save {
                 reference

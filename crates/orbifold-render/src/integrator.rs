@@ -27,6 +27,7 @@ use crate::light::{
     Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
     travel_direction,
 };
+use crate::radiance_cache::{self, Cached, Deposit, RadianceCache, facing};
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
 use crate::texture::ImageTexture;
 use crate::tracer::{SurfaceId, Tracer};
@@ -62,6 +63,10 @@ pub struct Settings {
     /// not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
+    /// Read the light that far mirror images of diffuse surfaces reflect from a cache filled
+    /// by the render's own paths ([`crate::radiance_cache`]; on by default, used by
+    /// [`crate::render`]). It needs the pixel footprint.
+    pub radiance_cache: bool,
 }
 
 impl Default for Settings {
@@ -72,6 +77,7 @@ impl Default for Settings {
             glow: [0.0; 3],
             straight_rays: false,
             pixel_footprint: true,
+            radiance_cache: true,
         }
     }
 }
@@ -486,6 +492,37 @@ pub struct PathSample {
     pub radiance: Rgb,
     /// The first surface that is not a mirror.
     pub first: FirstHit,
+    /// The path's estimate of the light its first diffuse surface reflects, for a
+    /// [`RadianceCache`] (only from [`Integrator::sample_pixel_cached`], when that surface was
+    /// traced in full).
+    pub deposit: Option<Deposit>,
+}
+
+/// The camera path's first diffuse surface, while its estimate there is being traced.
+struct Pending {
+    point: DVec3,
+    height: f64,
+    facing: u8,
+    /// The path's radiance before the surface's reflected light.
+    before: Rgb,
+    /// The throughput times the albedo there.
+    weight: Rgb,
+    /// The direct light found there (times the throughput).
+    direct: Rgb,
+}
+
+impl Pending {
+    /// The estimate, once the path's radiance is `after`.
+    fn deposit(&self, after: Rgb) -> Deposit {
+        let per_albedo = |c: usize, value: f64| value / self.weight[c];
+        Deposit {
+            point: self.point,
+            height: self.height,
+            facing: self.facing,
+            total: [0, 1, 2].map(|c| per_albedo(c, after[c] - self.before[c])),
+            indirect: [0, 1, 2].map(|c| per_albedo(c, after[c] - self.before[c] - self.direct[c])),
+        }
+    }
 }
 
 /// A mirror room ready to render: geometry, materials, lights and their images.
@@ -1258,6 +1295,22 @@ impl Integrator {
         footprint: Option<Footprint>,
         sampler: &mut Sampler,
     ) -> PathSample {
+        self.sample_pixel_cached(ray, footprint, None, sampler)
+    }
+
+    /// [`Integrator::sample_pixel`] with a radiance cache ([`crate::radiance_cache`]): where the
+    /// path's first diffuse surface is a far mirror image (its pixel's footprint is wider than
+    /// a cell of the cache) and the cache holds enough estimates there, the reflected light is
+    /// read from the cache instead of traced (except for a [`radiance_cache::PROBE`] share of
+    /// such paths). A path that traces its first diffuse surface in full returns its estimate
+    /// there as a [`Deposit`] for the cache.
+    pub fn sample_pixel_cached(
+        &self,
+        ray: &Ray,
+        footprint: Option<Footprint>,
+        cache: Option<&RadianceCache>,
+        sampler: &mut Sampler,
+    ) -> PathSample {
         let space = self.space();
         let footprint =
             footprint.filter(|_| self.settings.pixel_footprint && !self.settings.straight_rays);
@@ -1270,6 +1323,10 @@ impl Integrator {
         let mut pdf_bsdf = 0.0;
         let mut previous = (DVec3::ZERO, 0.0, 0.0);
         let mut depth = 0;
+        // Where the first diffuse surface's estimate starts: (deposit, radiance so far, the
+        // throughput times the albedo there).
+        let mut pending: Option<Pending> = None;
+        let mut previous_diffuse = false;
         loop {
             let roulette = Some((&mut *sampler, luminance(beta)));
             // The pixel's footprint is carried from the camera through mirrors only.
@@ -1336,6 +1393,43 @@ impl Integrator {
                     depth: march.length,
                 });
             }
+            // Light from the radiance cache: all the light a far image reflects, or the indirect
+            // part of what a surface reached by a diffuse bounce reflects (its direct light is
+            // sampled below, exactly: that is where the lighting is sharp).
+            let mut indirect_from_cache = None;
+            if let (Some(cache), Bsdf::Diffuse { albedo }) = (cache, bsdf)
+                && depth < self.settings.max_depth
+            {
+                // How wide the light arriving here is spread: the pixel's footprint for the
+                // camera's first surface, a share of the distance after a diffuse bounce.
+                let width = match &spread {
+                    Some(s) if depth == 0 => s.widths.0.min(s.widths.1),
+                    _ if previous_diffuse => radiance_cache::DIFFUSE_SPREAD * march.length,
+                    _ => 0.0,
+                };
+                let (facing, cached) = self.cached(cache, x, h, &frame, geometric, width, sampler);
+                let weight = mul(beta, albedo);
+                match cached {
+                    Some(cached) if depth > 0 => {
+                        indirect_from_cache = Some(mul(weight, cached.indirect));
+                    }
+                    Some(cached) if sampler.next_independent_f64() >= radiance_cache::PROBE => {
+                        add(&mut radiance, mul(weight, cached.total));
+                        break;
+                    }
+                    _ if depth == 0 && albedo.iter().all(|&a| a > 1e-3) => {
+                        pending = Some(Pending {
+                            point: x,
+                            height: h,
+                            facing,
+                            before: radiance,
+                            weight,
+                            direct: [0.0; 3],
+                        });
+                    }
+                    _ => {}
+                }
+            }
             // As in pbrt: a path has at most max_depth scattering vertices, whether its last
             // segment to the light comes from light sampling or from a hit.
             if depth == self.settings.max_depth {
@@ -1348,6 +1442,13 @@ impl Integrator {
                 let sides = Sides { geometric, wo };
                 let direct = self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf);
                 add(&mut radiance, mul(beta, direct));
+                if let Some(pending) = pending.as_mut().filter(|_| depth == 1) {
+                    pending.direct = mul(beta, direct);
+                }
+            }
+            if let Some(indirect) = indirect_from_cache {
+                add(&mut radiance, indirect);
+                break;
             }
             let Some(sample) =
                 bsdf.sample(shading.to_local(wo), sampler.next_2d(), sampler.next_f64())
@@ -1360,6 +1461,7 @@ impl Integrator {
             }
             beta = mul(beta, sample.weight);
             specular = sample.delta;
+            previous_diffuse = matches!(bsdf, Bsdf::Diffuse { .. });
             pdf_bsdf = sample.pdf;
             previous = (x, h, normal.z);
             if depth >= 3 {
@@ -1374,7 +1476,9 @@ impl Integrator {
             }
             ray = frame.ray(space, x, h, wi).advanced(space, RAY_EPSILON);
         }
+        let deposit = pending.map(|p| p.deposit(radiance));
         PathSample {
+            deposit,
             radiance: if radiance.iter().all(|v| v.is_finite()) {
                 radiance
             } else {
@@ -1385,6 +1489,43 @@ impl Integrator {
                 ..FirstHit::default()
             }),
         }
+    }
+
+    /// Whether renders read far and indirect light from a radiance cache: when the settings ask
+    /// for it, with light sampling and the pixel footprint (brute-force path tracing, the
+    /// reference, and straight rays trace every path in full).
+    pub fn uses_radiance_cache(&self) -> bool {
+        let s = &self.settings;
+        s.radiance_cache && s.nee && s.pixel_footprint && !s.straight_rays
+    }
+
+    /// Which way a surface at (x, h) with normal `geometric` (local to `frame`) faces, and the
+    /// cache's estimate of the light it reflects per unit albedo, spread over `width`
+    /// ([`RadianceCache::lookup`], jittered along the surface).
+    #[allow(clippy::too_many_arguments)]
+    fn cached(
+        &self,
+        cache: &RadianceCache,
+        x: DVec3,
+        h: f64,
+        frame: &TangentFrame,
+        geometric: DVec3,
+        width: f64,
+        sampler: &mut Sampler,
+    ) -> (u8, Option<Cached>) {
+        let ambient = |t: DVec3| (frame.e1 * t.x + frame.e2 * t.y, t.z);
+        let normal = ambient(geometric);
+        let facing = facing(normal.0, normal.1);
+        if width < radiance_cache::FINEST_CELL {
+            return (facing, None);
+        }
+        let along = Frame::from_normal(geometric);
+        let tangents = [ambient(along.tangent()), ambient(along.bitangent())];
+        let jitter = [
+            sampler.next_independent_f64(),
+            sampler.next_independent_f64(),
+        ];
+        (facing, cache.lookup(x, h, facing, width, tangents, jitter))
     }
 
     /// The model point of the room's centre (for cameras and tests).

@@ -22,6 +22,7 @@ pub mod footprint;
 pub mod instance;
 pub mod integrator;
 pub mod light;
+pub mod radiance_cache;
 pub mod render;
 pub mod shading_normal;
 mod texture;

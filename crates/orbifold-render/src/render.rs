@@ -38,6 +38,7 @@ use crate::camera::Camera;
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::Film;
 use crate::integrator::{Integrator, PathSample, Settings};
+use crate::radiance_cache::RadianceCache;
 use crate::sampler::Sampler;
 
 /// What to render.
@@ -214,6 +215,9 @@ pub struct Progressive<'a> {
     /// The denoiser's variance reduction per pixel, when adaptive sampling aims at a denoised
     /// image (refreshed at rounds 4, 8, 16, …).
     reduction: Option<Vec<f64>>,
+    /// The radiance cache for far mirror images, filled from the rounds so far
+    /// ([`crate::radiance_cache`]).
+    cache: Option<RadianceCache>,
 }
 
 impl<'a> Progressive<'a> {
@@ -234,6 +238,7 @@ impl<'a> Progressive<'a> {
             total: 0,
             rounds: 0,
             reduction: None,
+            cache: integrator.uses_radiance_cache().then(RadianceCache::new),
         }
     }
 
@@ -275,6 +280,7 @@ impl<'a> Progressive<'a> {
             })
             .flatten();
         let taken = &self.taken;
+        let cache = self.cache.as_ref();
         let (integrator, camera) = (self.integrator, self.camera);
         let trace = |pixel: u64, index: u32| {
             let (i, j) = (
@@ -285,7 +291,7 @@ impl<'a> Progressive<'a> {
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height);
-            integrator.sample_pixel(&ray, Some(footprint), &mut sampler)
+            integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
         let results: Vec<(u64, PathSample)> = match &chosen {
@@ -305,6 +311,9 @@ impl<'a> Progressive<'a> {
             );
             self.film.add(i, j, value.radiance);
             self.guides.add(i, j, &value.first);
+            if let (Some(cache), Some(deposit)) = (&mut self.cache, &value.deposit) {
+                cache.add(deposit);
+            }
             self.taken[*pixel as usize] += 1;
         }
         self.total += results.len() as u64;

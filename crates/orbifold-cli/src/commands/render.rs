@@ -95,6 +95,7 @@ pub(crate) fn settings_and_options(
         glow: [args.glow.unwrap_or(0.0); 3],
         straight_rays: args.straight_rays,
         pixel_footprint: !args.no_footprint,
+        radiance_cache: !args.no_radiance_cache,
     };
     let (width, height) = args
         .size

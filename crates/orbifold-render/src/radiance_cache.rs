@@ -1,0 +1,318 @@
+//! A radiance cache on the room's own surfaces, for the far crowd of mirror images.
+//!
+//! Every mirror image of the figure, the floor or the ceiling is the *same* surface of the
+//! orbifold seen along another chain of mirrors, and a diffuse surface sends the same radiance
+//! in every direction. So the light leaving a far image is the light leaving a point of the
+//! room itself, and it can be looked up instead of traced again. At the horizon of a mirror
+//! room a pixel covers many small images; its noise is mostly *which* image each camera sample
+//! lands on (coverage), and each sample there is dear (a long chain of mirrors, then light
+//! sampling back through another chain, then the indirect light). With the cache such a sample
+//! costs only its camera chain, so the adaptive sampler can afford many more of them.
+//!
+//! The cache stores, per cell of a hashed grid over (ambient point, height, facing), the mean
+//! of the paths' estimates of *reflected radiance per unit albedo* (E/π for a Lambertian
+//! surface, which does not depend on the texture). There are [`LEVELS`] grids, each cell twice
+//! the size of the one below, from [`FINEST_CELL`] up. A camera path's first diffuse surface
+//! uses the cache only where its pixel's footprint is at least as wide as a cell, so the cache's
+//! blur stays below what the pixel averages anyway (a prefiltered far field, as with the
+//! footprint's texture filtering), and the lookup point is jittered within a cell so that the
+//! grid shows as fine noise, not as blocks (Binder et al. 2018, "Fast path space filtering by
+//! jittered spatial hashing").
+//!
+//! A render fills the cache from its own paths: after each round the estimates of the paths
+//! that traced their first diffuse surface in full are added in pixel order (so an image is
+//! the same for a given seed whatever the number of threads). A cell is used once it holds
+//! [`READY`] estimates; a fraction [`PROBE`] of the paths that could use it trace in full
+//! anyway and keep it growing.
+//!
+//! ```
+//! use glam::DVec3;
+//! use orbifold_render::radiance_cache::{Deposit, RadianceCache};
+//!
+//! let mut cache = RadianceCache::new();
+//! let point = DVec3::new(0.1, 0.2, 1.0);
+//! let deposit = Deposit { point, height: 0.0, facing: 4, total: [0.5; 3], indirect: [0.2; 3] };
+//! for _ in 0..64 {
+//!     cache.add(&deposit);
+//! }
+//! // A footprint a unit wide reads the mean back; one finer than the finest cell does not.
+//! let floor = [(DVec3::X, 0.0), (DVec3::Y, 0.0)];
+//! let found = cache.lookup(deposit.point, 0.0, 4, 1.0, floor, [0.5; 2]).unwrap();
+//! assert!((found.total[0] - 0.5).abs() < 1e-12 && (found.indirect[2] - 0.2).abs() < 1e-12);
+//! assert!(cache.lookup(deposit.point, 0.0, 4, 1e-4, floor, [0.5; 2]).is_none());
+//! ```
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use glam::{DVec3, DVec4};
+
+use crate::light::Rgb;
+
+/// Side of the finest cells, in ambient units (about intrinsic units near the room's centre).
+pub const FINEST_CELL: f64 = 1.0 / 128.0;
+/// Number of grid levels; the coarsest cells are `FINEST_CELL · 2^(LEVELS − 1)` wide.
+pub const LEVELS: u32 = 9;
+/// Estimates a cell needs before it is used.
+pub const READY: u32 = 4;
+/// After a diffuse bounce, the width over which the light arriving at the next surface is
+/// spread, per unit of distance travelled (a cone of about ±6°: the narrowest part of a
+/// Lambertian lobe that still carries much of its light).
+pub const DIFFUSE_SPREAD: f64 = 0.2;
+/// The share of the paths that could use the cache but trace in full (and add to it).
+pub const PROBE: f64 = 0.25;
+
+/// One path's estimate of the radiance a diffuse surface point reflects, per unit albedo.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Deposit {
+    /// Ambient position of the point.
+    pub point: DVec3,
+    /// Its height.
+    pub height: f64,
+    /// Which way its surface faces ([`facing`]).
+    pub facing: u8,
+    /// Reflected radiance over albedo, per channel.
+    pub total: Rgb,
+    /// Its part that is not direct light (light sampled at the point itself).
+    pub indirect: Rgb,
+}
+
+/// What a cell holds: the means of its estimates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cached {
+    /// Reflected radiance over albedo, per channel.
+    pub total: Rgb,
+    /// Its part that is not direct light.
+    pub indirect: Rgb,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Cell {
+    total: Rgb,
+    indirect: Rgb,
+    count: u32,
+}
+
+/// The keys are already well mixed: hash them as they are.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 << 8) | u64::from(b);
+        }
+    }
+    fn write_u64(&mut self, key: u64) {
+        self.0 = key;
+    }
+}
+
+/// Cells of all levels, by hashed key.
+#[derive(Clone, Debug, Default)]
+pub struct RadianceCache {
+    cells: HashMap<u64, Cell, BuildHasherDefault<KeyHasher>>,
+}
+
+/// Which of eight directions a surface faces most: ± each ambient axis of its horizontal part,
+/// or up or down. `horizontal` is the ambient horizontal part of the normal, `up` its vertical
+/// component.
+///
+/// ```
+/// use glam::DVec3;
+/// use orbifold_render::radiance_cache::facing;
+///
+/// assert_ne!(facing(DVec3::ZERO, 1.0), facing(DVec3::ZERO, -1.0));
+/// assert_eq!(facing(DVec3::new(0.9, 0.1, 0.0), 0.2), facing(DVec3::new(0.8, -0.2, 0.0), 0.1));
+/// ```
+pub fn facing(horizontal: DVec3, up: f64) -> u8 {
+    let v = DVec4::new(horizontal.x, horizontal.y, horizontal.z, up);
+    let a = v.abs();
+    let axis = if a.w >= a.x.max(a.y).max(a.z) {
+        3
+    } else if a.x >= a.y.max(a.z) {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    2 * axis + u8::from(v[axis as usize] < 0.0)
+}
+
+/// splitmix64's finaliser: a bijection that spreads every input bit over the output.
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// The key of the cell of `level` that holds (point, height) facing `facing`.
+fn key(level: u32, point: DVec3, height: f64, facing: u8) -> u64 {
+    let size = FINEST_CELL * f64::from(1u32 << level);
+    let mut k = mix(u64::from(level) << 8 | u64::from(facing));
+    for c in [point.x, point.y, point.z, height] {
+        // Saturating casts: far points share an edge cell, harmlessly.
+        let i = (c / size).floor() as i64;
+        k = mix(k ^ i as u64);
+    }
+    k
+}
+
+impl RadianceCache {
+    /// An empty cache.
+    pub fn new() -> RadianceCache {
+        RadianceCache::default()
+    }
+
+    /// Number of cells (of all levels) that hold an estimate.
+    pub fn cells(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Adds one estimate to its cell at every level.
+    pub fn add(&mut self, deposit: &Deposit) {
+        let valid = |v: &f64| v.is_finite() && *v >= -1e-9;
+        if !(deposit.total.iter().all(valid) && deposit.indirect.iter().all(valid)) {
+            return;
+        }
+        for level in 0..LEVELS {
+            let cell = self
+                .cells
+                .entry(key(level, deposit.point, deposit.height, deposit.facing))
+                .or_default();
+            for c in 0..3 {
+                cell.total[c] += deposit.total[c];
+                cell.indirect[c] += deposit.indirect[c].max(0.0);
+            }
+            cell.count += 1;
+        }
+    }
+
+    /// The mean reflected radiance per unit albedo near (point, height) facing `facing`, from
+    /// the coarsest level whose cells are at most `width` wide, if its cell there is ready.
+    /// The lookup point moves by `jitter` (uniform in [0, 1)²) up to half a cell along each of
+    /// the surface's two unit `tangents`, each given as (ambient horizontal part, vertical
+    /// part): along the surface, so that it stays among the estimates of the same surface.
+    pub fn lookup(
+        &self,
+        point: DVec3,
+        height: f64,
+        facing: u8,
+        width: f64,
+        tangents: [(DVec3, f64); 2],
+        jitter: [f64; 2],
+    ) -> Option<Cached> {
+        // (NaN widths fail the test too.)
+        if width.is_nan() || width < FINEST_CELL {
+            return None;
+        }
+        let level = ((width / FINEST_CELL).log2().floor() as u32).min(LEVELS - 1);
+        let size = FINEST_CELL * f64::from(1u32 << level);
+        let (a, b) = ((jitter[0] - 0.5) * size, (jitter[1] - 0.5) * size);
+        let point = point + tangents[0].0 * a + tangents[1].0 * b;
+        let height = height + tangents[0].1 * a + tangents[1].1 * b;
+        let cell = self.cells.get(&key(level, point, height, facing))?;
+        let n = f64::from(cell.count);
+        (cell.count >= READY).then(|| Cached {
+            total: cell.total.map(|s| s / n),
+            indirect: cell.indirect.map(|s| s / n),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The floor's tangents: along the two horizontal ambient axes of E².
+    const FLOOR: [(DVec3, f64); 2] = [(DVec3::X, 0.0), (DVec3::Y, 0.0)];
+    const NO_JITTER: ([(DVec3, f64); 2], [f64; 2]) = (FLOOR, [0.5; 2]);
+
+    proptest! {
+        #[test]
+        fn a_lookup_returns_the_mean_of_its_cell(
+            x in -3.0f64..3.0, y in -3.0f64..3.0, h in -1.0f64..1.0,
+            values in proptest::collection::vec(0.0f64..10.0, 32..64),
+            width in 0.01f64..4.0,
+        ) {
+            let mut cache = RadianceCache::new();
+            let point = DVec3::new(x, y, 1.0);
+            for &v in &values {
+                cache.add(&Deposit { point, height: h, facing: 5, total: [v, 2.0 * v, 0.0], indirect: [0.5 * v; 3] });
+            }
+            let mean = values.iter().sum::<f64>() / values.len() as f64;
+            // Without jitter the lookup point is the deposits' own: the same cell.
+            let found = cache.lookup(point, h, 5, width, NO_JITTER.0, NO_JITTER.1).unwrap();
+            prop_assert!((found.total[0] - mean).abs() < 1e-9 * (1.0 + mean));
+            prop_assert!((found.total[1] - 2.0 * mean).abs() < 1e-9 * (1.0 + mean));
+            prop_assert!((found.indirect[2] - 0.5 * mean).abs() < 1e-9 * (1.0 + mean));
+            // Another facing is another cell.
+            prop_assert!(cache.lookup(point, h, 4, width, NO_JITTER.0, NO_JITTER.1).is_none());
+        }
+
+        #[test]
+        fn jitter_never_reaches_past_a_neighbouring_cell(
+            x in -3.0f64..3.0, y in -3.0f64..3.0, far in 2.5f64..10.0,
+            width in 0.01f64..1.0, u in proptest::array::uniform2(0.0f64..1.0),
+        ) {
+            // Estimates more than a cell and a half away along x are never read.
+            let mut cache = RadianceCache::new();
+            let point = DVec3::new(x, y, 1.0);
+            let level = ((width / FINEST_CELL).log2().floor() as u32).min(LEVELS - 1);
+            let size = FINEST_CELL * f64::from(1u32 << level);
+            let other = point + DVec3::new(far * size, 0.0, 0.0);
+            for _ in 0..READY {
+                cache.add(&Deposit { point: other, height: 0.0, facing: 0, total: [1.0; 3], indirect: [1.0; 3] });
+            }
+            prop_assert!(cache.lookup(point, 0.0, 0, width, FLOOR, [u[0], u[1]]).is_none());
+        }
+    }
+
+    #[test]
+    fn a_cell_is_not_used_before_it_is_ready() {
+        let mut cache = RadianceCache::new();
+        let deposit = Deposit {
+            point: DVec3::new(0.3, 0.0, 1.0),
+            height: 0.2,
+            facing: 1,
+            total: [1.0; 3],
+            indirect: [0.5; 3],
+        };
+        for _ in 1..READY {
+            cache.add(&deposit);
+        }
+        assert!(
+            cache
+                .lookup(deposit.point, 0.2, 1, 0.5, NO_JITTER.0, NO_JITTER.1)
+                .is_none()
+        );
+        cache.add(&deposit);
+        assert!(
+            cache
+                .lookup(deposit.point, 0.2, 1, 0.5, NO_JITTER.0, NO_JITTER.1)
+                .is_some()
+        );
+        // Non-finite or negative estimates are left out.
+        cache.add(&Deposit {
+            total: [f64::NAN, 1.0, 1.0],
+            ..deposit
+        });
+        cache.add(&Deposit {
+            indirect: [-1.0, 1.0, 1.0],
+            ..deposit
+        });
+        let expected = Cached {
+            total: [1.0; 3],
+            indirect: [0.5; 3],
+        };
+        assert_eq!(
+            cache.lookup(deposit.point, 0.2, 1, 0.5, NO_JITTER.0, NO_JITTER.1),
+            Some(expected)
+        );
+    }
+}
