@@ -60,7 +60,7 @@ pub const READY: u32 = 4;
 /// Lambertian lobe that still carries much of its light).
 pub const DIFFUSE_SPREAD: f64 = 0.2;
 /// The share of the paths that could use the cache but trace in full (and add to it).
-pub const PROBE: f64 = 0.25;
+pub const PROBE: f64 = 0.1;
 
 /// One path's estimate of the radiance a diffuse surface point reflects, per unit albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]

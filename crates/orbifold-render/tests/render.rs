@@ -188,11 +188,6 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
                 let ((a, ea), (b, eb)) = (block(&cached, bx, by), block(&full, bx, by));
                 total_cached += a;
                 total_full += b;
-                eprintln!(
-                    "BLOCK {signature} {:.3} {:.1}",
-                    (a - b) / b,
-                    (a - b).abs() / (ea * ea + eb * eb).sqrt()
-                );
                 let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.05 * b;
                 assert!(
                     (a - b).abs() < tolerance,
