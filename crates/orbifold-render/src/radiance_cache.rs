@@ -46,6 +46,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 use glam::{DVec3, DVec4};
+use rayon::prelude::*;
 
 use crate::light::Rgb;
 
@@ -111,10 +112,20 @@ impl Hasher for KeyHasher {
     }
 }
 
-/// Cells of all levels, by hashed key.
-#[derive(Clone, Debug, Default)]
+type Cells = HashMap<u64, Cell, BuildHasherDefault<KeyHasher>>;
+
+/// Cells by hashed key, one map per level.
+#[derive(Clone, Debug)]
 pub struct RadianceCache {
-    cells: HashMap<u64, Cell, BuildHasherDefault<KeyHasher>>,
+    levels: Vec<Cells>,
+}
+
+impl Default for RadianceCache {
+    fn default() -> Self {
+        RadianceCache {
+            levels: vec![Cells::default(); LEVELS as usize],
+        }
+    }
 }
 
 /// Which of eight directions a surface faces most: ± each ambient axis of its horizontal part,
@@ -170,26 +181,36 @@ impl RadianceCache {
 
     /// Number of cells (of all levels) that hold an estimate.
     pub fn cells(&self) -> usize {
-        self.cells.len()
+        self.levels.iter().map(HashMap::len).sum()
     }
 
     /// Adds one estimate to its cell at every level.
     pub fn add(&mut self, deposit: &Deposit) {
-        let valid = |v: &f64| v.is_finite() && *v >= -1e-9;
-        if !(deposit.total.iter().all(valid) && deposit.indirect.iter().all(valid)) {
-            return;
-        }
-        for level in 0..LEVELS {
-            let cell = self
-                .cells
-                .entry(key(level, deposit.point, deposit.height, deposit.facing))
-                .or_default();
-            for c in 0..3 {
-                cell.total[c] += deposit.total[c];
-                cell.indirect[c] += deposit.indirect[c].max(0.0);
-            }
-            cell.count += 1;
-        }
+        self.add_all(std::slice::from_ref(deposit));
+    }
+
+    /// Adds estimates in order, the levels in parallel (each level's sums in the same order
+    /// whatever the threads, so the cache is too). Non-finite or negative estimates are left out.
+    pub fn add_all(&mut self, deposits: &[Deposit]) {
+        let valid = |d: &&Deposit| {
+            let ok = |v: &f64| v.is_finite() && *v >= -1e-9;
+            d.total.iter().all(ok) && d.indirect.iter().all(ok)
+        };
+        let deposits: Vec<&Deposit> = deposits.iter().filter(valid).collect();
+        self.levels
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(level, cells)| {
+                for deposit in &deposits {
+                    let k = key(level as u32, deposit.point, deposit.height, deposit.facing);
+                    let cell = cells.entry(k).or_default();
+                    for c in 0..3 {
+                        cell.total[c] += deposit.total[c];
+                        cell.indirect[c] += deposit.indirect[c].max(0.0);
+                    }
+                    cell.count += 1;
+                }
+            });
     }
 
     /// The mean reflected radiance per unit albedo near (point, height) facing `facing`, from
@@ -215,7 +236,7 @@ impl RadianceCache {
         let (a, b) = ((jitter[0] - 0.5) * size, (jitter[1] - 0.5) * size);
         let point = point + tangents[0].0 * a + tangents[1].0 * b;
         let height = height + tangents[0].1 * a + tangents[1].1 * b;
-        let cell = self.cells.get(&key(level, point, height, facing))?;
+        let cell = self.levels[level as usize].get(&key(level, point, height, facing))?;
         let n = f64::from(cell.count);
         (cell.count >= READY).then(|| Cached {
             total: cell.total.map(|s| s / n),

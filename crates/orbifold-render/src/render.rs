@@ -311,10 +311,11 @@ impl<'a> Progressive<'a> {
             );
             self.film.add(i, j, value.radiance);
             self.guides.add(i, j, &value.first);
-            if let (Some(cache), Some(deposit)) = (&mut self.cache, &value.deposit) {
-                cache.add(deposit);
-            }
             self.taken[*pixel as usize] += 1;
+        }
+        if let Some(cache) = &mut self.cache {
+            let deposits: Vec<_> = results.iter().filter_map(|(_, v)| v.deposit).collect();
+            cache.add_all(&deposits);
         }
         self.total += results.len() as u64;
         self.rounds += 1;
