@@ -6,12 +6,15 @@
 //! over a 256×256 image of the default room (8 samples a pixel), which adaptive sampling for a
 //! denoised image also runs at rounds 4, 8, 16, …. The pixel footprint's test of a sphere light
 //! along one straight stretch of a camera ray (`footprint::sphere_coverage`, run for every
-//! stretch between mirrors), over 1 024 rays in each geometry.
+//! stretch between mirrors), over 1 024 rays in each geometry. The radiance cache: 16 passes
+//! of the default room with and without it (the cache is read from the second pass on), and
+//! adding and looking up 100 000 estimates.
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use std::sync::atomic::AtomicBool;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
 use orbifold_render::camera::Camera;
@@ -19,6 +22,7 @@ use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
 use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::radiance_cache::{Deposit, RadianceCache};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_scene::Scene;
 
@@ -55,6 +59,81 @@ fn passes(c: &mut Criterion) {
             })
         });
     }
+    group.finish();
+}
+
+fn cached_passes(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    group.sample_size(10);
+    let scene = default_room("*22222");
+    for (name, radiance_cache) in [("cached", true), ("in full", false)] {
+        let settings = Settings {
+            radiance_cache,
+            ..Settings::default()
+        };
+        let integrator = Integrator::from_scene(&scene, None, settings).unwrap();
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let options = RenderOptions {
+            adaptive: false,
+            ..RenderOptions::new(64, 48, 16, 1)
+        };
+        group.throughput(Throughput::Elements(64 * 48 * 16));
+        group.bench_function(format!("16 passes 64x48 *22222 {name}"), |b| {
+            b.iter(|| {
+                render(
+                    &integrator,
+                    &camera,
+                    &options,
+                    &AtomicBool::new(false),
+                    &|_, _| {},
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+fn radiance_cache(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    // Estimates on the floor and two walls of a unit room in E², as a render deposits them.
+    let deposits: Vec<Deposit> = (0..100_000)
+        .map(|i| {
+            let t = f64::from(i);
+            let (u, v) = ((t * 0.618_034).fract(), (t * 0.754_877).fract());
+            let (point, height, facing) = match i % 3 {
+                0 => (DVec3::new(u, v, 1.0), 0.0, 6),
+                1 => (DVec3::new(0.0, u, 1.0), v, 0),
+                _ => (DVec3::new(u, 0.0, 1.0), v, 2),
+            };
+            Deposit {
+                point,
+                height,
+                facing,
+                total: [u; 3],
+                indirect: [v; 3],
+            }
+        })
+        .collect();
+    group.throughput(Throughput::Elements(deposits.len() as u64));
+    group.bench_function("radiance cache add 100k", |b| {
+        b.iter(|| {
+            let mut cache = RadianceCache::new();
+            cache.add_all(&deposits);
+            cache.cells()
+        })
+    });
+    let mut cache = RadianceCache::new();
+    cache.add_all(&deposits);
+    let floor = [(DVec3::X, 0.0), (DVec3::Y, 0.0)];
+    group.bench_function("radiance cache lookup 100k", |b| {
+        b.iter(|| {
+            deposits
+                .iter()
+                .filter_map(|d| cache.lookup(d.point, d.height, d.facing, 0.05, floor, [0.3, 0.7]))
+                .map(|c| c.total[0])
+                .sum::<f64>()
+        })
+    });
     group.finish();
 }
 
@@ -123,5 +202,12 @@ fn footprint(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, passes, denoiser, footprint);
+criterion_group!(
+    benches,
+    passes,
+    cached_passes,
+    radiance_cache,
+    denoiser,
+    footprint
+);
 criterion_main!(benches);
