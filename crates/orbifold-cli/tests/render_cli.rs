@@ -217,3 +217,29 @@ fn no_footprint_renders_without_the_pixel_footprint() {
     assert_eq!((a.width(), a.height()), (b.width(), b.height()));
     assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw());
 }
+
+#[test]
+fn no_radiance_cache_traces_every_path_in_full() {
+    // From the second pass on, far surfaces and the ends of diffuse bounces read the radiance
+    // cache; without it every path is traced in full, so the same seed gives another image.
+    let (a, b) = (temp("cache.png"), temp("no-cache.png"));
+    let args = |out: &PathBuf| {
+        vec![
+            "-o".to_string(),
+            out.to_str().unwrap().to_string(),
+            "--size".into(),
+            "24x16".into(),
+            "--spp".into(),
+            "4".into(),
+            "--no-denoise".into(),
+        ]
+    };
+    let with: Vec<String> = args(&a);
+    let mut without = args(&b);
+    without.push("--no-radiance-cache".into());
+    render(&with.iter().map(String::as_str).collect::<Vec<_>>());
+    render(&without.iter().map(String::as_str).collect::<Vec<_>>());
+    let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
+    assert_eq!((a.width(), a.height()), (b.width(), b.height()));
+    assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw());
+}
