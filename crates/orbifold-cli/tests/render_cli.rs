@@ -192,11 +192,14 @@ fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
         .stderr(predicate::str::contains("cannot be used with"));
 }
 
-#[test]
-fn no_footprint_renders_without_the_pixel_footprint() {
-    // The default room's checkerboard floor is filtered over each pixel's footprint; without it
-    // the floor is point-sampled, so the same seed gives another image.
-    let (a, b) = (temp("footprint.png"), temp("no-footprint.png"));
+/// Renders the default room twice with the same seed (24×16, `spp` samples, raw), the second
+/// time with `flag`, and checks that the two images differ.
+fn assert_flag_changes_the_image(flag: &str, spp: u32) {
+    let name = flag.trim_start_matches('-');
+    let (a, b) = (
+        temp(&format!("with-{name}.png")),
+        temp(&format!("{name}.png")),
+    );
     let args = |out: &PathBuf| {
         vec![
             "-o".to_string(),
@@ -204,42 +207,30 @@ fn no_footprint_renders_without_the_pixel_footprint() {
             "--size".into(),
             "24x16".into(),
             "--spp".into(),
-            "2".into(),
+            spp.to_string(),
             "--no-denoise".into(),
         ]
     };
     let with: Vec<String> = args(&a);
     let mut without = args(&b);
-    without.push("--no-footprint".into());
+    without.push(flag.into());
     render(&with.iter().map(String::as_str).collect::<Vec<_>>());
     render(&without.iter().map(String::as_str).collect::<Vec<_>>());
     let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
     assert_eq!((a.width(), a.height()), (b.width(), b.height()));
-    assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw());
+    assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw(), "{flag}");
+}
+
+#[test]
+fn no_footprint_renders_without_the_pixel_footprint() {
+    // The default room's checkerboard floor is filtered over each pixel's footprint; without it
+    // the floor is point-sampled, so the same seed gives another image.
+    assert_flag_changes_the_image("--no-footprint", 2);
 }
 
 #[test]
 fn no_radiance_cache_traces_every_path_in_full() {
     // From the second pass on, far surfaces and the ends of diffuse bounces read the radiance
     // cache; without it every path is traced in full, so the same seed gives another image.
-    let (a, b) = (temp("cache.png"), temp("no-cache.png"));
-    let args = |out: &PathBuf| {
-        vec![
-            "-o".to_string(),
-            out.to_str().unwrap().to_string(),
-            "--size".into(),
-            "24x16".into(),
-            "--spp".into(),
-            "4".into(),
-            "--no-denoise".into(),
-        ]
-    };
-    let with: Vec<String> = args(&a);
-    let mut without = args(&b);
-    without.push("--no-radiance-cache".into());
-    render(&with.iter().map(String::as_str).collect::<Vec<_>>());
-    render(&without.iter().map(String::as_str).collect::<Vec<_>>());
-    let (a, b) = (image::open(&a).unwrap(), image::open(&b).unwrap());
-    assert_eq!((a.width(), a.height()), (b.width(), b.height()));
-    assert_ne!(a.to_rgb8().into_raw(), b.to_rgb8().into_raw());
+    assert_flag_changes_the_image("--no-radiance-cache", 4);
 }

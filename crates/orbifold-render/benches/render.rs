@@ -13,7 +13,8 @@
 
 use std::sync::atomic::AtomicBool;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
@@ -38,26 +39,41 @@ fn default_room(signature: &str) -> Scene {
     scene
 }
 
+/// Benchmarks `passes` passes of a 64×48 image of `signature`'s default room, every pixel alike.
+fn bench_passes(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    signature: &str,
+    settings: Settings,
+    passes: u32,
+) {
+    let scene = default_room(signature);
+    let integrator = Integrator::from_scene(&scene, None, settings).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let options = RenderOptions {
+        adaptive: false,
+        ..RenderOptions::new(64, 48, passes, 1)
+    };
+    group.throughput(Throughput::Elements(64 * 48 * u64::from(passes)));
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            render(
+                &integrator,
+                &camera,
+                &options,
+                &AtomicBool::new(false),
+                &|_, _| {},
+            )
+        })
+    });
+}
+
 fn passes(c: &mut Criterion) {
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
     for signature in ["*22222", "*235", "*333"] {
-        let scene = default_room(signature);
-        let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
-        let camera = Camera::new(integrator.space(), &scene.camera);
-        let options = RenderOptions::new(64, 48, 1, 1);
-        group.throughput(Throughput::Elements(64 * 48));
-        group.bench_function(format!("pass 64x48 {signature}"), |b| {
-            b.iter(|| {
-                render(
-                    &integrator,
-                    &camera,
-                    &options,
-                    &AtomicBool::new(false),
-                    &|_, _| {},
-                )
-            })
-        });
+        let name = format!("pass 64x48 {signature}");
+        bench_passes(&mut group, &name, signature, Settings::default(), 1);
     }
     group.finish();
 }
@@ -65,30 +81,13 @@ fn passes(c: &mut Criterion) {
 fn cached_passes(c: &mut Criterion) {
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
-    let scene = default_room("*22222");
     for (name, radiance_cache) in [("cached", true), ("in full", false)] {
         let settings = Settings {
             radiance_cache,
             ..Settings::default()
         };
-        let integrator = Integrator::from_scene(&scene, None, settings).unwrap();
-        let camera = Camera::new(integrator.space(), &scene.camera);
-        let options = RenderOptions {
-            adaptive: false,
-            ..RenderOptions::new(64, 48, 16, 1)
-        };
-        group.throughput(Throughput::Elements(64 * 48 * 16));
-        group.bench_function(format!("16 passes 64x48 *22222 {name}"), |b| {
-            b.iter(|| {
-                render(
-                    &integrator,
-                    &camera,
-                    &options,
-                    &AtomicBool::new(false),
-                    &|_, _| {},
-                )
-            })
-        });
+        let name = format!("16 passes 64x48 *22222 {name}");
+        bench_passes(&mut group, &name, "*22222", settings, 16);
     }
     group.finish();
 }
