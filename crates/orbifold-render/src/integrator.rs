@@ -63,9 +63,10 @@ pub struct Settings {
     /// not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
-    /// Read the light that far mirror images of diffuse surfaces reflect from a cache filled
-    /// by the render's own paths ([`crate::radiance_cache`]; on by default, used by
-    /// [`crate::render`]). It needs the pixel footprint.
+    /// Read the light that far mirror images of diffuse surfaces reflect, and the indirect
+    /// light of surfaces reached by a diffuse bounce, from a cache filled by the render's own
+    /// paths ([`crate::radiance_cache`]; on by default, used by [`crate::render`]). It needs
+    /// light sampling and the pixel footprint.
     pub radiance_cache: bool,
 }
 
@@ -1323,8 +1324,7 @@ impl Integrator {
         let mut pdf_bsdf = 0.0;
         let mut previous = (DVec3::ZERO, 0.0, 0.0);
         let mut depth = 0;
-        // Where the first diffuse surface's estimate starts: (deposit, radiance so far, the
-        // throughput times the albedo there).
+        // The camera path's first diffuse surface, while its estimate for the cache is traced.
         let mut pending: Option<Pending> = None;
         let mut previous_diffuse = false;
         loop {
