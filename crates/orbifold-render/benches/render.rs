@@ -108,8 +108,7 @@ fn radiance_cache(c: &mut Criterion) {
                 point,
                 height,
                 facing,
-                total: [u; 3],
-                indirect: [v; 3],
+                total: [u, v, 0.5],
             }
         })
         .collect();

@@ -27,7 +27,7 @@ use crate::light::{
     Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
     travel_direction,
 };
-use crate::radiance_cache::{self, Cached, Deposit, RadianceCache, facing};
+use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
 use crate::texture::ImageTexture;
 use crate::tracer::{SurfaceId, Tracer};
@@ -63,9 +63,9 @@ pub struct Settings {
     /// not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
-    /// Read the light that far mirror images of diffuse surfaces reflect, and the indirect
-    /// light of surfaces reached by a diffuse bounce, from a cache filled by the render's own
-    /// paths ([`crate::radiance_cache`]; on by default, used by [`crate::render`]). It needs
+    /// Read the light that far mirror images of diffuse surfaces reflect, and the light that
+    /// diffuse surfaces reached by a diffuse bounce reflect, from a cache filled by the render's
+    /// own paths ([`crate::radiance_cache`]; on by default, used by [`crate::render`]). It needs
     /// light sampling and the pixel footprint.
     pub radiance_cache: bool,
 }
@@ -508,8 +508,6 @@ struct Pending {
     before: Rgb,
     /// The throughput times the albedo there.
     weight: Rgb,
-    /// The direct light found there (times the throughput).
-    direct: Rgb,
 }
 
 impl Pending {
@@ -521,7 +519,6 @@ impl Pending {
             height: self.height,
             facing: self.facing,
             total: [0, 1, 2].map(|c| per_albedo(c, after[c] - self.before[c])),
-            indirect: [0, 1, 2].map(|c| per_albedo(c, after[c] - self.before[c] - self.direct[c])),
         }
     }
 }
@@ -1302,9 +1299,11 @@ impl Integrator {
     /// [`Integrator::sample_pixel`] with a radiance cache ([`crate::radiance_cache`]): where the
     /// path's first diffuse surface is a far mirror image (its pixel's footprint is wider than
     /// a cell of the cache) and the cache holds enough estimates there, the reflected light is
-    /// read from the cache instead of traced (except for a [`radiance_cache::PROBE`] share of
-    /// such paths). A path that traces its first diffuse surface in full returns its estimate
-    /// there as a [`Deposit`] for the cache.
+    /// read from the cache instead of traced; so is the light reflected by a diffuse surface
+    /// that the path reaches from a diffuse bounce, over a width of
+    /// [`radiance_cache::DIFFUSE_SPREAD`] times the distance (in both cases except for a
+    /// [`radiance_cache::PROBE`] share of such paths). A path that traces its first diffuse
+    /// surface in full returns its estimate there as a [`Deposit`] for the cache.
     pub fn sample_pixel_cached(
         &self,
         ray: &Ray,
@@ -1393,10 +1392,9 @@ impl Integrator {
                     depth: march.length,
                 });
             }
-            // Light from the radiance cache: all the light a far image reflects, or the indirect
-            // part of what a surface reached by a diffuse bounce reflects (its direct light is
-            // sampled below, exactly: that is where the lighting is sharp).
-            let mut indirect_from_cache = None;
+            // Light from the radiance cache: all the light that a far image, or a surface reached
+            // by a diffuse bounce, reflects (except for a probed share of such paths, traced on
+            // in full so that a cell's neighbourhood keeps being checked).
             if let (Some(cache), Bsdf::Diffuse { albedo }) = (cache, bsdf)
                 && depth < self.settings.max_depth
             {
@@ -1410,11 +1408,8 @@ impl Integrator {
                 let (facing, cached) = self.cached(cache, x, h, &frame, geometric, width, sampler);
                 let weight = mul(beta, albedo);
                 match cached {
-                    Some(cached) if depth > 0 => {
-                        indirect_from_cache = Some(mul(weight, cached.indirect));
-                    }
                     Some(cached) if sampler.next_independent_f64() >= radiance_cache::PROBE => {
-                        add(&mut radiance, mul(weight, cached.total));
+                        add(&mut radiance, mul(weight, cached));
                         break;
                     }
                     _ if depth == 0 && albedo.iter().all(|&a| a > 1e-3) => {
@@ -1424,7 +1419,6 @@ impl Integrator {
                             facing,
                             before: radiance,
                             weight,
-                            direct: [0.0; 3],
                         });
                     }
                     _ => {}
@@ -1442,13 +1436,6 @@ impl Integrator {
                 let sides = Sides { geometric, wo };
                 let direct = self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf);
                 add(&mut radiance, mul(beta, direct));
-                if let Some(pending) = pending.as_mut().filter(|_| depth == 1) {
-                    pending.direct = mul(beta, direct);
-                }
-            }
-            if let Some(indirect) = indirect_from_cache {
-                add(&mut radiance, indirect);
-                break;
             }
             let Some(sample) =
                 bsdf.sample(shading.to_local(wo), sampler.next_2d(), sampler.next_f64())
@@ -1512,7 +1499,7 @@ impl Integrator {
         geometric: DVec3,
         width: f64,
         sampler: &mut Sampler,
-    ) -> (u8, Option<Cached>) {
+    ) -> (u8, Option<Rgb>) {
         let ambient = |t: DVec3| (frame.e1 * t.x + frame.e2 * t.y, t.z);
         let normal = ambient(geometric);
         let facing = facing(normal.0, normal.1);

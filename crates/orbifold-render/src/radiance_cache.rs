@@ -7,7 +7,10 @@
 //! room a pixel covers many small images; its noise is mostly *which* image each camera sample
 //! lands on (coverage), and each sample there is dear (a long chain of mirrors, then light
 //! sampling back through another chain, then the indirect light). With the cache such a sample
-//! costs only its camera chain, so the adaptive sampler can afford many more of them.
+//! costs only its camera chain, so the adaptive sampler can afford many more of them. The same
+//! holds for the light that a diffuse bounce gathers: the surface it reaches reflects the light
+//! that the cache holds for it, so a path that has bounced once off a diffuse surface reads its
+//! next diffuse surface from the cache and ends there.
 //!
 //! The cache stores, per cell of a hashed grid over (ambient point, height, facing), the mean
 //! of the paths' estimates of *reflected radiance per unit albedo* (E/π for a Lambertian
@@ -31,14 +34,14 @@
 //!
 //! let mut cache = RadianceCache::new();
 //! let point = DVec3::new(0.1, 0.2, 1.0);
-//! let deposit = Deposit { point, height: 0.0, facing: 4, total: [0.5; 3], indirect: [0.2; 3] };
+//! let deposit = Deposit { point, height: 0.0, facing: 4, total: [0.5, 0.4, 0.2] };
 //! for _ in 0..64 {
 //!     cache.add(&deposit);
 //! }
 //! // A footprint a unit wide reads the mean back; one finer than the finest cell does not.
 //! let floor = [(DVec3::X, 0.0), (DVec3::Y, 0.0)];
 //! let found = cache.lookup(deposit.point, 0.0, 4, 1.0, floor, [0.5; 2]).unwrap();
-//! assert!((found.total[0] - 0.5).abs() < 1e-12 && (found.indirect[2] - 0.2).abs() < 1e-12);
+//! assert!((found[0] - 0.5).abs() < 1e-12 && (found[2] - 0.2).abs() < 1e-12);
 //! assert!(cache.lookup(deposit.point, 0.0, 4, 1e-4, floor, [0.5; 2]).is_none());
 //! ```
 
@@ -74,23 +77,12 @@ pub struct Deposit {
     pub facing: u8,
     /// Reflected radiance over albedo, per channel.
     pub total: Rgb,
-    /// Its part that is not direct light (light sampled at the point itself).
-    pub indirect: Rgb,
 }
 
-/// What a cell holds: the means of its estimates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cached {
-    /// Reflected radiance over albedo, per channel.
-    pub total: Rgb,
-    /// Its part that is not direct light.
-    pub indirect: Rgb,
-}
-
+/// What a cell holds: the sum of its estimates and their number.
 #[derive(Clone, Copy, Debug, Default)]
 struct Cell {
     total: Rgb,
-    indirect: Rgb,
     count: u32,
 }
 
@@ -194,7 +186,7 @@ impl RadianceCache {
     pub fn add_all(&mut self, deposits: &[Deposit]) {
         let valid = |d: &&Deposit| {
             let ok = |v: &f64| v.is_finite() && *v >= -1e-9;
-            d.total.iter().all(ok) && d.indirect.iter().all(ok)
+            d.total.iter().all(ok)
         };
         let deposits: Vec<&Deposit> = deposits.iter().filter(valid).collect();
         self.levels
@@ -205,8 +197,7 @@ impl RadianceCache {
                     let k = key(level as u32, deposit.point, deposit.height, deposit.facing);
                     let cell = cells.entry(k).or_default();
                     for c in 0..3 {
-                        cell.total[c] += deposit.total[c];
-                        cell.indirect[c] += deposit.indirect[c].max(0.0);
+                        cell.total[c] += deposit.total[c].max(0.0);
                     }
                     cell.count += 1;
                 }
@@ -226,7 +217,7 @@ impl RadianceCache {
         width: f64,
         tangents: [(DVec3, f64); 2],
         jitter: [f64; 2],
-    ) -> Option<Cached> {
+    ) -> Option<Rgb> {
         // (NaN widths fail the test too.)
         if width.is_nan() || width < FINEST_CELL {
             return None;
@@ -238,10 +229,7 @@ impl RadianceCache {
         let height = height + tangents[0].1 * a + tangents[1].1 * b;
         let cell = self.levels[level as usize].get(&key(level, point, height, facing))?;
         let n = f64::from(cell.count);
-        (cell.count >= READY).then(|| Cached {
-            total: cell.total.map(|s| s / n),
-            indirect: cell.indirect.map(|s| s / n),
-        })
+        (cell.count >= READY).then(|| cell.total.map(|s| s / n))
     }
 }
 
@@ -264,14 +252,14 @@ mod tests {
             let mut cache = RadianceCache::new();
             let point = DVec3::new(x, y, 1.0);
             for &v in &values {
-                cache.add(&Deposit { point, height: h, facing: 5, total: [v, 2.0 * v, 0.0], indirect: [0.5 * v; 3] });
+                cache.add(&Deposit { point, height: h, facing: 5, total: [v, 2.0 * v, 0.0] });
             }
             let mean = values.iter().sum::<f64>() / values.len() as f64;
             // Without jitter the lookup point is the deposits' own: the same cell.
             let found = cache.lookup(point, h, 5, width, NO_JITTER.0, NO_JITTER.1).unwrap();
-            prop_assert!((found.total[0] - mean).abs() < 1e-9 * (1.0 + mean));
-            prop_assert!((found.total[1] - 2.0 * mean).abs() < 1e-9 * (1.0 + mean));
-            prop_assert!((found.indirect[2] - 0.5 * mean).abs() < 1e-9 * (1.0 + mean));
+            prop_assert!((found[0] - mean).abs() < 1e-9 * (1.0 + mean));
+            prop_assert!((found[1] - 2.0 * mean).abs() < 1e-9 * (1.0 + mean));
+            prop_assert_eq!(found[2], 0.0);
             // Another facing is another cell.
             prop_assert!(cache.lookup(point, h, 4, width, NO_JITTER.0, NO_JITTER.1).is_none());
         }
@@ -288,7 +276,7 @@ mod tests {
             let size = FINEST_CELL * f64::from(1u32 << level);
             let other = point + DVec3::new(far * size, 0.0, 0.0);
             for _ in 0..READY {
-                cache.add(&Deposit { point: other, height: 0.0, facing: 0, total: [1.0; 3], indirect: [1.0; 3] });
+                cache.add(&Deposit { point: other, height: 0.0, facing: 0, total: [1.0; 3] });
             }
             prop_assert!(cache.lookup(point, 0.0, 0, width, FLOOR, [u[0], u[1]]).is_none());
         }
@@ -302,7 +290,6 @@ mod tests {
             height: 0.2,
             facing: 1,
             total: [1.0; 3],
-            indirect: [0.5; 3],
         };
         for _ in 1..READY {
             cache.add(&deposit);
@@ -324,16 +311,12 @@ mod tests {
             ..deposit
         });
         cache.add(&Deposit {
-            indirect: [-1.0, 1.0, 1.0],
+            total: [-1.0, 1.0, 1.0],
             ..deposit
         });
-        let expected = Cached {
-            total: [1.0; 3],
-            indirect: [0.5; 3],
-        };
         assert_eq!(
             cache.lookup(deposit.point, 0.2, 1, 0.5, NO_JITTER.0, NO_JITTER.1),
-            Some(expected)
+            Some([1.0; 3])
         );
     }
 }

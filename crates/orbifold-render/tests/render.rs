@@ -211,7 +211,6 @@ fn the_radiance_cache_lowers_the_noise() {
         let cached = sized_image(&scene, cached(true), (24, 16), 32, 5);
         let full = sized_image(&scene, in_full(true), (24, 16), 32, 5);
         let (a, b) = (cached.relative_noise(), full.relative_noise());
-        eprintln!("NOISE {signature} {a} {b}");
         assert!(
             a < 0.9 * b,
             "{signature}: relative noise {a} cached, {b} in full"
