@@ -128,7 +128,7 @@ fn radiance_cache(c: &mut Criterion) {
             deposits
                 .iter()
                 .filter_map(|d| cache.lookup(d.point, d.height, d.facing, 0.05, floor, [0.3, 0.7]))
-                .map(|c| c.total[0])
+                .map(|c| c[0])
                 .sum::<f64>()
         })
     });
