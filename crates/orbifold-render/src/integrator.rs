@@ -1301,7 +1301,8 @@ impl Integrator {
     /// a cell of the cache) and the cache holds enough estimates there, the reflected light is
     /// read from the cache instead of traced; so is the light reflected by a diffuse surface
     /// that the path reaches from a diffuse bounce, over a width of
-    /// [`radiance_cache::DIFFUSE_SPREAD`] times the distance (in both cases except for a
+    /// [`radiance_cache::DIFFUSE_SPREAD`] times the distance, where the path may still take
+    /// [`radiance_cache::DEPTH_LEFT_FOR_READS`] scatterings (in both cases except for a
     /// [`radiance_cache::PROBE`] share of such paths). A path that traces its first diffuse
     /// surface in full returns its estimate there as a [`Deposit`] for the cache.
     pub fn sample_pixel_cached(
@@ -1400,9 +1401,12 @@ impl Integrator {
             {
                 // How wide the light arriving here is spread: the pixel's footprint for the
                 // camera's first surface, a share of the distance after a diffuse bounce.
+                let depth_left = self.settings.max_depth - depth;
                 let width = match &spread {
                     Some(s) if depth == 0 => s.widths.0.min(s.widths.1),
-                    _ if previous_diffuse => radiance_cache::DIFFUSE_SPREAD * march.length,
+                    _ if previous_diffuse && depth_left >= radiance_cache::DEPTH_LEFT_FOR_READS => {
+                        radiance_cache::DIFFUSE_SPREAD * march.length
+                    }
                     _ => 0.0,
                 };
                 let (facing, cached) = self.cached(cache, x, h, &frame, geometric, width, sampler);

@@ -65,6 +65,11 @@ pub const READY: u32 = 4;
 pub const DIFFUSE_SPREAD: f64 = 0.2;
 /// The share of the paths that could use the cache but trace in full (and add to it).
 pub const PROBE: f64 = 0.1;
+/// The fewest scatterings a path must still be allowed (the maximum depth less its depth) to
+/// read the cache after a bounce. The cache holds the light of paths with the whole maximum
+/// depth still ahead of them, so a read deeper along a path counts light of a few bounces more
+/// than the path may take; with this many still allowed, that light is negligible.
+pub const DEPTH_LEFT_FOR_READS: u32 = 16;
 
 /// One path's estimate of the radiance a diffuse surface point reflects, per unit albedo.
 #[derive(Clone, Copy, Debug, PartialEq)]

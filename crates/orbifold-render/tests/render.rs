@@ -203,6 +203,33 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
 }
 
 #[test]
+fn the_radiance_cache_keeps_a_shallow_depth_limit() {
+    // The cache's estimates hold the light of paths with the whole depth limit ahead of them;
+    // read after a bounce, they would count bounces that the path may not take. With a shallow
+    // limit only the first surfaces read the cache, whose estimates have the same limit ahead,
+    // and the image is the truncated one. White surfaces make the missing bounce count.
+    for signature in ["*235", "*2222", "*2223"] {
+        let mut scene = scene_with_objects(signature);
+        let white = Material::Color { color: [0.9; 3] };
+        scene.room.wall_material = white.clone();
+        scene.room.floor = white.clone();
+        scene.room.ceiling = white;
+        let shallow = |settings| Settings {
+            max_depth: 2,
+            ..settings
+        };
+        let cached = sized_image(&scene, shallow(cached(true)), (24, 16), 64, 3);
+        let full = sized_image(&scene, shallow(in_full(true)), (24, 16), 256, 4);
+        let ((a, ea), (b, eb)) = (mean_and_error(&cached), mean_and_error(&full));
+        let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * b;
+        assert!(
+            (a - b).abs() < tolerance,
+            "{signature}: cached {a} ± {ea}, in full {b} ± {eb}"
+        );
+    }
+}
+
+#[test]
 fn the_radiance_cache_lowers_the_noise() {
     // At equal samples the cached estimate is less noisy: its far and indirect light is a mean
     // of many paths. (If the cache were never read, the two would be the same image.)
@@ -447,7 +474,7 @@ fn a_point_light_lights_the_room_as_a_tiny_sphere_light_of_the_same_power() {
         sphere.lights[0].radius = 0.01;
         let render = |scene: &Scene, seed| {
             let settings = Settings {
-                max_depth: 3,
+                max_depth: 2,
                 ..Settings::default()
             };
             let options = RenderOptions::new(16, 12, 128, seed);
