@@ -1,13 +1,17 @@
 //! Mesh export: Wavefront OBJ (with an MTL file of named materials), binary PLY and glTF binary
-//! (GLB), one named group per part of the room.
+//! (GLB), one named group per part of the room, with smooth vertex normals
+//! ([`smooth_normals`]).
 //!
 //! Coordinates are the model's x and y and the height above the floor, in that order, for OBJ
 //! and PLY (Z up: in Blender choose "Up: Z" when importing OBJ). glTF is Y up by specification,
 //! so there a vertex (x, y, h) is written as (x, h, −y); every importer then shows the room
 //! upright. The files say so in their headers (a comment in OBJ and PLY, `asset.extras` in glTF).
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+use glam::DVec3;
 
 use serde_json::json;
 
@@ -79,7 +83,100 @@ pub fn identifier(name: &str) -> String {
         .collect()
 }
 
-/// The OBJ text: one `o` object with its `usemtl` per group.
+/// A group's mesh with a unit normal at every vertex: what the formats write.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shaded {
+    /// Vertex positions: model x, model y, height (a vertex of the group appears once per
+    /// distinct normal of its corners).
+    pub positions: Vec<[f64; 3]>,
+    /// A unit normal per vertex, in the same coordinates.
+    pub normals: Vec<[f32; 3]>,
+    /// The group's triangles, in its order, over these vertices.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The group's mesh with smooth vertex normals, as a viewer of the exported file should shade
+/// it: each corner's normal is the mean of the normals of the faces round its vertex that bend
+/// from the corner's own face by less than the group's crease angle, weighted by their angles
+/// at the vertex (Thürmer and Wüthrich, as the renderer does). A vertex whose corners get
+/// different normals is written once per normal, so the creases stay sharp. The normals are
+/// those of the exported surface in (model x, model y, height), which is what other tools see.
+/// A corner of a degenerate face takes the mean of all the faces round its vertex (straight up
+/// if there is none).
+///
+/// ```
+/// use orbifold_scene::export::smooth_normals;
+/// use orbifold_scene::geometry::MeshGroup;
+///
+/// // Two faces folded by 90° along the edge 0-1: the edge's vertices are split.
+/// let group = MeshGroup {
+///     name: "fold".into(),
+///     color: [1.0; 3],
+///     mirror: false,
+///     crease: 60.0,
+///     positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+///     triangles: vec![[0, 1, 2], [1, 0, 3]],
+/// };
+/// let shaded = smooth_normals(&group);
+/// assert_eq!(shaded.positions.len(), 6);
+/// assert_eq!(shaded.normals[shaded.triangles[0][0] as usize], [0.0, 0.0, 1.0]);
+/// assert_eq!(shaded.normals[shaded.triangles[1][0] as usize], [0.0, 1.0, 0.0]);
+/// ```
+pub fn smooth_normals(group: &MeshGroup) -> Shaded {
+    let point = |i: u32| DVec3::from_array(group.positions[i as usize]);
+    // Each face's unit normal (None if degenerate) and its angle at each corner.
+    let faces: Vec<(Option<DVec3>, [f64; 3])> = group
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(point);
+            let normal = (b - a).cross(c - a).try_normalize();
+            let angle = |p: DVec3, q: DVec3, r: DVec3| (q - p).angle_between(r - p);
+            let angles = [angle(a, b, c), angle(b, c, a), angle(c, a, b)];
+            (normal, angles.map(|x| if x.is_finite() { x } else { 0.0 }))
+        })
+        .collect();
+    let mut around: Vec<Vec<(usize, usize)>> = vec![Vec::new(); group.positions.len()];
+    for (f, t) in group.triangles.iter().enumerate() {
+        for (k, &v) in t.iter().enumerate() {
+            around[v as usize].push((f, k));
+        }
+    }
+    let cos_crease = group.crease.clamp(0.0, 180.0).to_radians().cos();
+    let corner_normal = |f: usize, v: u32| {
+        let own = faces[f].0;
+        let sum: DVec3 = around[v as usize]
+            .iter()
+            .filter_map(|&(g, k)| {
+                let n = faces[g].0?;
+                let kept = own.is_none_or(|own| g == f || own.dot(n) >= cos_crease);
+                kept.then_some(n * faces[g].1[k])
+            })
+            .sum();
+        let n = sum.try_normalize().or(own).unwrap_or(DVec3::Z);
+        n.as_vec3().to_array()
+    };
+    let mut shaded = Shaded {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        triangles: Vec::with_capacity(group.triangles.len()),
+    };
+    let mut index: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+    for (f, t) in group.triangles.iter().enumerate() {
+        let triangle = t.map(|v| {
+            let n = corner_normal(f, v);
+            *index.entry((v, n.map(f32::to_bits))).or_insert_with(|| {
+                shaded.positions.push(group.positions[v as usize]);
+                shaded.normals.push(n);
+                (shaded.positions.len() - 1) as u32
+            })
+        });
+        shaded.triangles.push(triangle);
+    }
+    shaded
+}
+
+/// The OBJ text: one `o` object with its `usemtl` per group, positions and vertex normals.
 pub fn to_obj(groups: &[MeshGroup], mtl_name: &str, title: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# {title}\n# {COORDINATES_NOTE}\nmtllib {mtl_name}");
@@ -88,15 +185,20 @@ pub fn to_obj(groups: &[MeshGroup], mtl_name: &str, title: &str) -> String {
         if g.triangles.is_empty() {
             continue;
         }
+        let shaded = smooth_normals(g);
         let id = identifier(&g.name);
         let _ = writeln!(out, "o {id}\nusemtl {id}");
-        for p in &g.positions {
+        for p in &shaded.positions {
             let _ = writeln!(out, "v {} {} {}", p[0] as f32, p[1] as f32, p[2] as f32);
         }
-        for t in &g.triangles {
-            let _ = writeln!(out, "f {} {} {}", t[0] + base, t[1] + base, t[2] + base);
+        for n in &shaded.normals {
+            let _ = writeln!(out, "vn {} {} {}", n[0], n[1], n[2]);
         }
-        base += g.positions.len() as u32;
+        for t in &shaded.triangles {
+            let [a, b, c] = t.map(|v| v + base);
+            let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+        }
+        base += shaded.positions.len() as u32;
     }
     out
 }
@@ -117,10 +219,11 @@ pub fn to_mtl(groups: &[MeshGroup]) -> String {
     out
 }
 
-/// Binary little-endian PLY: vertices with a colour, faces with a `group` index; the header's
-/// comments name the groups (`comment group 3 wall 0`).
+/// Binary little-endian PLY: vertices with a normal and a colour, faces with a `group` index;
+/// the header's comments name the groups (`comment group 3 wall 0`).
 pub fn to_ply(groups: &[MeshGroup], title: &str) -> Vec<u8> {
-    let vertices: usize = groups.iter().map(|g| g.positions.len()).sum();
+    let shaded: Vec<Shaded> = groups.iter().map(smooth_normals).collect();
+    let vertices: usize = shaded.iter().map(|g| g.positions.len()).sum();
     let faces: usize = groups.iter().map(|g| g.triangles.len()).sum();
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment {title}\ncomment {COORDINATES_NOTE}\n"
@@ -131,22 +234,26 @@ pub fn to_ply(groups: &[MeshGroup], title: &str) -> Vec<u8> {
     let _ = write!(
         header,
         "element vertex {vertices}\nproperty float x\nproperty float y\nproperty float z\n\
+         property float nx\nproperty float ny\nproperty float nz\n\
          property uchar red\nproperty uchar green\nproperty uchar blue\n\
          element face {faces}\nproperty list uchar int vertex_indices\nproperty int group\nend_header\n"
     );
     let mut out = header.into_bytes();
-    out.reserve(vertices * 15 + faces * 17);
-    for g in groups {
+    out.reserve(vertices * 27 + faces * 17);
+    for (g, s) in groups.iter().zip(&shaded) {
         let rgb = g.color.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
-        for p in &g.positions {
+        for (p, n) in s.positions.iter().zip(&s.normals) {
             for c in p {
                 out.extend_from_slice(&(*c as f32).to_le_bytes());
+            }
+            for c in n {
+                out.extend_from_slice(&c.to_le_bytes());
             }
             out.extend_from_slice(&rgb);
         }
     }
     let mut base = 0u32;
-    for (i, g) in groups.iter().enumerate() {
+    for (i, g) in shaded.iter().enumerate() {
         for t in &g.triangles {
             out.push(3);
             for v in t {
@@ -166,8 +273,10 @@ pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
     let (mut views, mut accessors, mut meshes, mut nodes, mut materials) =
         (vec![], vec![], vec![], vec![], vec![]);
     for g in groups.iter().filter(|g| !g.triangles.is_empty()) {
-        // glTF is Y up: (x, y, h) ↦ (x, h, −y) keeps handedness and puts the floor down.
-        let positions: Vec<[f32; 3]> = g
+        let shaded = smooth_normals(g);
+        // glTF is Y up: (x, y, h) ↦ (x, h, −y), a rotation, keeps handedness and puts the
+        // floor down; the normals turn with it.
+        let positions: Vec<[f32; 3]> = shaded
             .positions
             .iter()
             .map(|p| [p[0] as f32, p[2] as f32, -p[1] as f32])
@@ -186,22 +295,31 @@ pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
                 bin.extend_from_slice(&c.to_le_bytes());
             }
         }
+        let normal_view = views.len();
+        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": positions.len() * 12, "target": 34962}));
+        for n in &shaded.normals {
+            for c in [n[0], n[2], -n[1]] {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
         let index_view = views.len();
-        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": g.triangles.len() * 12, "target": 34963}));
-        for t in &g.triangles {
+        views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": shaded.triangles.len() * 12, "target": 34963}));
+        for t in &shaded.triangles {
             for v in t {
                 bin.extend_from_slice(&v.to_le_bytes());
             }
         }
         let position_accessor = accessors.len();
         accessors.push(json!({"bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi}));
-        accessors.push(json!({"bufferView": index_view, "componentType": 5125, "count": g.triangles.len() * 3, "type": "SCALAR"}));
+        accessors.push(json!({"bufferView": normal_view, "componentType": 5126, "count": positions.len(), "type": "VEC3"}));
+        accessors.push(json!({"bufferView": index_view, "componentType": 5125, "count": shaded.triangles.len() * 3, "type": "SCALAR"}));
         let [r, gr, b] = g.color;
         let (metallic, roughness) = if g.mirror { (1.0, 0.02) } else { (0.0, 0.8) };
         materials.push(json!({"name": g.name, "doubleSided": true, "pbrMetallicRoughness": {
             "baseColorFactor": [r, gr, b, 1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}));
         meshes.push(json!({"name": g.name, "primitives": [{
-            "attributes": {"POSITION": position_accessor}, "indices": position_accessor + 1,
+            "attributes": {"POSITION": position_accessor, "NORMAL": position_accessor + 1},
+            "indices": position_accessor + 2,
             "material": materials.len() - 1, "mode": 4}]}));
         nodes.push(json!({"name": g.name, "mesh": meshes.len() - 1}));
     }

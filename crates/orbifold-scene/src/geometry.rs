@@ -48,9 +48,16 @@ pub struct Part {
     pub color: Color,
     /// For a mirror, its reflectance.
     pub reflectance: Option<Color>,
+    /// The crease angle of its smooth shading, in degrees: an object's own, [`ROOM_CREASE`]
+    /// for the room's parts.
+    pub crease: f64,
     /// The mesh.
     pub surface: Surface,
 }
+
+/// The crease angle (degrees) of the room's own parts: each is smooth within itself (a floor,
+/// a ceiling, a wall's strip), so any angle well below the walls' corners does.
+pub const ROOM_CREASE: f64 = 60.0;
 
 /// The meshed room.
 #[derive(Clone, Debug)]
@@ -72,6 +79,9 @@ pub struct MeshGroup {
     pub color: Color,
     /// Whether it is a mirror (exported as a shiny metal of this colour).
     pub mirror: bool,
+    /// The crease angle of its exported vertex normals, in degrees
+    /// ([`crate::export::smooth_normals`]).
+    pub crease: f64,
     /// Vertex positions: model x, model y, height.
     pub positions: Vec<[f64; 3]>,
     /// Triangles, counter-clockwise seen from the front.
@@ -180,6 +190,7 @@ impl Scene {
                 kind: PartKind::Floor,
                 color: representative(&self.room.floor),
                 reflectance: None,
+                crease: ROOM_CREASE,
                 surface: floor,
             },
             Part {
@@ -187,6 +198,7 @@ impl Scene {
                 kind: PartKind::Ceiling,
                 color: representative(&self.room.ceiling),
                 reflectance: None,
+                crease: ROOM_CREASE,
                 surface: ceiling,
             },
         ];
@@ -243,6 +255,7 @@ impl Scene {
                 kind: PartKind::Mirror { wall, mirror: j },
                 color: mirrors[j].reflectance,
                 reflectance: Some(mirrors[j].reflectance),
+                crease: ROOM_CREASE,
                 surface,
             })
             .collect();
@@ -252,6 +265,7 @@ impl Scene {
                 kind: PartKind::Wall(wall),
                 color: representative(self.wall_material(wall)),
                 reflectance: None,
+                crease: ROOM_CREASE,
                 surface: plain,
             });
         }
@@ -307,6 +321,7 @@ impl Scene {
             kind: PartKind::Object(i),
             color: representative(&object.material),
             reflectance: None,
+            crease: object.crease,
             surface: Surface {
                 points: placed.points,
                 heights: placed.heights,
@@ -349,6 +364,7 @@ impl RoomGeometry {
                 name: part.name.clone(),
                 color: part.color,
                 mirror: part.reflectance.is_some(),
+                crease: part.crease,
                 positions: Vec::new(),
                 triangles: Vec::new(),
             };

@@ -5,10 +5,13 @@
 use std::collections::BTreeMap;
 
 use orbifold::cover::{Bound, Cover};
-use orbifold_scene::export::{ExportFormat, export, identifier, to_glb, to_obj, to_ply};
+use orbifold_scene::export::{
+    ExportFormat, export, identifier, smooth_normals, to_glb, to_obj, to_ply,
+};
 use orbifold_scene::geometry::{MeshGroup, PartKind};
 use orbifold_scene::mesh::import::{MeshFormat, parse_mesh};
 use orbifold_scene::{Mirror, Scene, Wall};
+use proptest::prelude::*;
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("orbifold-export-{name}-{}", std::process::id()));
@@ -135,6 +138,14 @@ fn obj_reads_back_with_its_groups() {
             "{}",
             group.name
         );
+        // A unit normal per vertex.
+        let shaded = smooth_normals(group);
+        assert_eq!(model.mesh.positions.len(), 3 * shaded.positions.len());
+        assert_eq!(model.mesh.normals.len(), model.mesh.positions.len());
+        for n in model.mesh.normals.chunks(3) {
+            let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            assert!((length - 1.0).abs() < 1e-4, "{}: {n:?}", group.name);
+        }
         let material = &materials[model.mesh.material_id.unwrap()];
         assert_eq!(material.name, identifier(&group.name));
     }
@@ -166,14 +177,20 @@ fn glb_reads_back_with_its_groups() {
         let primitive = mesh.primitives().next().unwrap();
         let reader = primitive.reader(|b| (b.index() == 0).then_some(blob.as_slice()));
         let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
-        assert_eq!(positions.len(), group.positions.len());
-        // glTF is Y up: (x, y, h) is stored as (x, h, −y).
-        for (p, q) in positions.iter().zip(&group.positions) {
+        let normals: Vec<[f32; 3]> = reader.read_normals().unwrap().collect();
+        let shaded = smooth_normals(group);
+        assert_eq!(positions.len(), shaded.positions.len());
+        assert_eq!(normals.len(), shaded.normals.len());
+        // glTF is Y up: (x, y, h) is stored as (x, h, −y), and so are the normals.
+        for (p, q) in positions.iter().zip(&shaded.positions) {
             assert!(
                 (p[0] as f64 - q[0]).abs() < 1e-6
                     && (p[1] as f64 - q[2]).abs() < 1e-6
                     && (p[2] as f64 + q[1]).abs() < 1e-6
             );
+        }
+        for (n, m) in normals.iter().zip(&shaded.normals) {
+            assert_eq!(*n, [m[0], m[2], -m[1]]);
         }
         let indices = reader.read_indices().unwrap().into_u32().count();
         assert_eq!(indices, 3 * group.triangles.len());
@@ -200,7 +217,10 @@ fn ply_names_its_groups_and_reads_back() {
     assert_eq!(mesh.triangles.len(), triangles);
     assert_eq!(
         mesh.positions.len(),
-        groups.iter().map(|g| g.positions.len()).sum::<usize>()
+        groups
+            .iter()
+            .map(|g| smooth_normals(g).positions.len())
+            .sum::<usize>()
     );
 }
 
@@ -230,4 +250,85 @@ fn cover_copies_are_whole_rooms() {
     }
     let obj = to_obj(&groups, "room.mtl", "t");
     assert!(obj.contains("o floor_copies\n"));
+}
+
+#[test]
+fn the_room_exports_the_normals_of_its_surfaces() {
+    // The floor faces up, the ceiling down, the walls are vertical: in every geometry.
+    for signature in ["*235", "*2222", "*2223"] {
+        let mut scene = partial_mirror_scene();
+        scene.orbifold.signature = signature.into();
+        scene.walls.clear();
+        scene.camera.at = [0.0, 0.0];
+        let (groups, _) = scene.geometry(None).unwrap().groups(&[]);
+        for g in &groups {
+            let shaded = smooth_normals(g);
+            for n in &shaded.normals {
+                let ok = match g.name.as_str() {
+                    "floor" => *n == [0.0, 0.0, 1.0],
+                    "ceiling" => *n == [0.0, 0.0, -1.0],
+                    name if name.starts_with("wall") || name.starts_with("mirror") => {
+                        n[2].abs() < 1e-6
+                    }
+                    _ => true,
+                };
+                assert!(ok, "{signature}, {}: {n:?}", g.name);
+            }
+        }
+    }
+}
+
+/// A triangle soup over a 3×3×2 grid of points (so that faces share vertices and fold).
+fn soup() -> impl Strategy<Value = MeshGroup> {
+    let corner = 0u32..18;
+    (
+        proptest::collection::vec([corner.clone(), corner.clone(), corner], 1..24),
+        0.0f64..180.0,
+        -0.3f64..0.3,
+    )
+        .prop_map(|(triangles, crease, bend)| MeshGroup {
+            name: "soup".into(),
+            color: [1.0; 3],
+            mirror: false,
+            crease,
+            positions: (0..18)
+                .map(|i| {
+                    let (x, y, z) = (f64::from(i % 3), f64::from(i / 3 % 3), f64::from(i / 9));
+                    [x, y + bend * x * x, z]
+                })
+                .collect(),
+            triangles,
+        })
+}
+
+proptest! {
+    #[test]
+    fn smooth_normals_keep_the_faces_and_bend_within_the_crease(group in soup()) {
+        let shaded = smooth_normals(&group);
+        prop_assert_eq!(shaded.triangles.len(), group.triangles.len());
+        prop_assert_eq!(shaded.normals.len(), shaded.positions.len());
+        let cos_crease = group.crease.to_radians().cos();
+        for (t, s) in group.triangles.iter().zip(&shaded.triangles) {
+            let [a, b, c] = t.map(|v| glam::DVec3::from_array(group.positions[v as usize]));
+            // The same triangle, corner by corner.
+            for k in 0..3 {
+                prop_assert_eq!(shaded.positions[s[k] as usize], group.positions[t[k] as usize]);
+            }
+            let face = (b - a).cross(c - a).try_normalize();
+            for &v in s {
+                let n = glam::DVec3::from_array(shaded.normals[v as usize].map(f64::from));
+                prop_assert!((n.length() - 1.0).abs() < 1e-5, "{n}");
+                // A mean of normals within the crease of the face is within it too (a cone no
+                // wider than a half-space is convex).
+                if let Some(face) = face.filter(|_| group.crease <= 90.0) {
+                    prop_assert!(n.dot(face) >= cos_crease.min(1.0) - 1e-5, "{n} {face}");
+                }
+            }
+        }
+        // Every vertex is written once per distinct normal.
+        let mut seen = std::collections::HashSet::new();
+        for (p, n) in shaded.positions.iter().zip(&shaded.normals) {
+            prop_assert!(seen.insert((p.map(f64::to_bits), n.map(f32::to_bits))));
+        }
+    }
 }
