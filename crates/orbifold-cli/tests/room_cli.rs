@@ -65,6 +65,25 @@ fn a_scene_with_cover_as_json() {
     );
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["signature"], "*22222");
+    // The groups' vertices are those written, normals split on creases included.
+    let bytes = std::fs::read(&file).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let written: Vec<usize> = gltf
+        .document
+        .meshes()
+        .map(|m| {
+            let primitive = m.primitives().next().unwrap();
+            primitive.get(&gltf::Semantic::Positions).unwrap().count()
+        })
+        .collect();
+    let reported: Vec<usize> = report["groups"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|g| g["triangles"].as_u64().unwrap() > 0)
+        .map(|g| g["vertices"].as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(written, reported);
     // *22222 has 5 tiles at depth 1 and 15 at depth 2.
     assert_eq!(report["copies"], 20);
     assert_eq!(report["resolution"], 0.2);

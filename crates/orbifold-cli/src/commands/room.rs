@@ -8,7 +8,7 @@ use orbifold::cover::{Bound, Cover};
 use orbifold::room::Quality;
 use orbifold_scene::Scene;
 use orbifold_scene::document::Tessellation;
-use orbifold_scene::export::{ExportFormat, export};
+use orbifold_scene::export::{ExportFormat, export, smooth_normals};
 use orbifold_scene::geometry::{PartKind, RoomGeometry};
 use serde::Serialize;
 
@@ -243,7 +243,8 @@ fn report(
             .iter()
             .map(|g| GroupJson {
                 name: g.name.clone(),
-                vertices: g.positions.len(),
+                // As written: a vertex on a crease is written once per side.
+                vertices: smooth_normals(g).positions.len(),
                 triangles: g.triangles.len(),
             })
             .collect(),
