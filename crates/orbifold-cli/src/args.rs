@@ -406,7 +406,8 @@ Examples:
 
 Groups are named floor, ceiling, wall I (wall parts without a mirror), mirror I.J (mirror J of
 wall I) and the objects' names; with --cover, the copies of each are in `<name> copies`.
-Coordinates are model x, model y and height (glTF: x, height, -y, as glTF is Y up). Ideal
+Coordinates are 2 × model x, 2 × model y and height (glTF: x, height, -y, as glTF is Y up): the
+model scaled by its metric at the centre, so a Euclidean room has its true size and shape. Ideal
 corners are cut off at the distance reported. A bare signature gets the scene defaults and no
 objects.";
 

@@ -43,7 +43,7 @@ fn a_signature_becomes_an_obj_with_named_groups() {
         ]
     );
     let text = std::fs::read_to_string(&file).unwrap();
-    assert!(text.contains("coordinates: model x, model y, height"));
+    assert!(text.contains("coordinates: 2 model x, 2 model y, height"));
     std::fs::remove_dir_all(d).unwrap();
 }
 

@@ -2,8 +2,9 @@
 //! (GLB), one named group per part of the room, with smooth vertex normals
 //! ([`smooth_normals`]).
 //!
-//! Coordinates are the model's x and y and the height above the floor, in that order, for OBJ
-//! and PLY (Z up: in Blender choose "Up: Z" when importing OBJ). glTF is Y up by specification,
+//! Coordinates are the model's x and y, times [`EXPORT_SCALE`] (the model's metric at its centre,
+//! so that a Euclidean room has its true size and shape), and the height above the floor, in that
+//! order, for OBJ and PLY (Z up: in Blender choose "Up: Z" when importing OBJ). glTF is Y up by specification,
 //! so there a vertex (x, y, h) is written as (x, h, −y); every importer then shows the room
 //! upright. The files say so in their headers (a comment in OBJ and PLY, `asset.extras` in glTF).
 
@@ -16,6 +17,8 @@ use glam::DVec3;
 use serde_json::json;
 
 use crate::file::write_atomic;
+#[cfg(doc)]
+use crate::geometry::EXPORT_SCALE;
 use crate::geometry::MeshGroup;
 
 /// A mesh file format.
@@ -43,8 +46,9 @@ impl ExportFormat {
 }
 
 /// What the header of every export says about its coordinates.
-pub const COORDINATES_NOTE: &str = "coordinates: model x, model y, height above the floor (the model is the stereographic plane, \
-     the Euclidean plane or the Poincare disk; see docs/scene-format.md)";
+pub const COORDINATES_NOTE: &str = "coordinates: 2 model x, 2 model y, height above the floor (the model is the stereographic plane, \
+     the Euclidean plane or the Poincare disk, scaled by its metric at the centre so that a Euclidean room has its true size; \
+     see docs/room.md)";
 
 /// Writes `groups` to `path` in `format`, atomically (for OBJ also `path` with `.mtl`). Returns
 /// the files written.
@@ -86,7 +90,7 @@ pub fn identifier(name: &str) -> String {
 /// A group's mesh with a unit normal at every vertex: what the formats write.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shaded {
-    /// Vertex positions: model x, model y, height (a vertex of the group appears once per
+    /// Vertex positions: 2 model x, 2 model y, height (a vertex of the group appears once per
     /// distinct normal of its corners).
     pub positions: Vec<[f64; 3]>,
     /// A unit normal per vertex, in the same coordinates.
@@ -100,7 +104,7 @@ pub struct Shaded {
 /// from the corner's own face by less than the group's crease angle, weighted by their angles
 /// at the vertex (Thürmer and Wüthrich, as the renderer does). A vertex whose corners get
 /// different normals is written once per normal, so the creases stay sharp. The normals are
-/// those of the exported surface in (model x, model y, height), which is what other tools see.
+/// those of the exported surface in its own coordinates, which is what other tools see.
 /// A corner of a degenerate face takes the mean of all the faces round its vertex (straight up
 /// if there is none).
 ///
@@ -325,7 +329,7 @@ pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
     }
     let document = json!({
         "asset": {"version": "2.0", "generator": "orbifold", "extras": {"title": title, "coordinates":
-            "glTF is Y up: a room point (model x, model y, height h) is stored as (x, h, -y)"}},
+            "glTF is Y up: a room point (x, y, height h), x and y twice the model coordinates, is stored as (x, h, -y)"}},
         "scene": 0,
         "scenes": [{"name": title, "nodes": (0..nodes.len()).collect::<Vec<_>>()}],
         "nodes": nodes, "meshes": meshes, "materials": materials,

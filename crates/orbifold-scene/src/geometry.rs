@@ -82,7 +82,7 @@ pub struct MeshGroup {
     /// The crease angle of its exported vertex normals, in degrees
     /// ([`crate::export::smooth_normals`]).
     pub crease: f64,
-    /// Vertex positions: model x, model y, height.
+    /// Vertex positions: [`EXPORT_SCALE`] × model x, [`EXPORT_SCALE`] × model y, height.
     pub positions: Vec<[f64; 3]>,
     /// Triangles, counter-clockwise seen from the front.
     pub triangles: Vec<[u32; 3]>,
@@ -91,6 +91,25 @@ pub struct MeshGroup {
 /// Model coordinates farther than this from the origin are left out of exports (on the sphere,
 /// the stereographic image of the antipode of the model's centre is at infinity).
 pub const FARTHEST_EXPORTED: f64 = 1e3;
+
+/// Exported horizontal coordinates are the model's times this: the model's metric at its
+/// centre, λ(0) = 2 (DESIGN.md §3), so that the horizontal and the height have the same scale.
+/// A Euclidean room is then exported in its true shape and size, and in the curved geometries
+/// lengths are true at the model's centre and shrink outwards by λ(z)/2. (In bare model
+/// coordinates every room and object would come out squashed to half its width.)
+///
+/// ```
+/// use orbifold_scene::Scene;
+/// use orbifold_scene::geometry::EXPORT_SCALE;
+///
+/// // A Euclidean room's first wall is as long in the export as it is intrinsically.
+/// let mut scene = Scene::default();
+/// scene.orbifold.signature = "*2222".into();
+/// let layout = scene.layout().unwrap();
+/// let [a, b] = [0, 1].map(|i| layout.vertices[i].position * EXPORT_SCALE);
+/// assert!(((b - a).norm() - layout.edges[0].length).abs() < 1e-9);
+/// ```
+pub const EXPORT_SCALE: f64 = 2.0;
 
 impl Scene {
     /// The mirrors of wall `index`, as the file gives them or from the room's default.
@@ -350,9 +369,9 @@ pub fn representative(material: &Material) -> Color {
 }
 
 impl RoomGeometry {
-    /// The parts as export groups in model coordinates (x, y, height), followed — for each tile
-    /// of `copies` but the room itself — by the images of every part, gathered per part into
-    /// groups named `<part> copies`. Mirror images are turned inside out back again, so that
+    /// The parts as export groups in export coordinates ([`EXPORT_SCALE`] × model x and y,
+    /// height), followed — for each tile of `copies` but the room itself — by the images of
+    /// every part, gathered per part into groups named `<part> copies`. Mirror images are turned inside out back again, so that
     /// every triangle keeps facing the front. Returns the groups and the number of triangles left
     /// out because a vertex is farther than [`FARTHEST_EXPORTED`] in the model.
     pub fn groups(&self, copies: &[Tile]) -> (Vec<MeshGroup>, usize) {
@@ -393,7 +412,7 @@ impl RoomGeometry {
     }
 }
 
-/// Appends the image of `surface` under `tile` (or the surface itself) to `group` in model
+/// Appends the image of `surface` under `tile` (or the surface itself) to `group` in export
 /// coordinates; returns how many triangles were left out for being too far out.
 fn add_copy(
     group: &mut MeshGroup,
@@ -406,14 +425,14 @@ fn add_copy(
     group
         .positions
         .extend(surface.points.iter().zip(&surface.heights).map(|(&p, &h)| {
-            let z = space.to_model(moved(p));
+            let z = space.to_model(moved(p)) * EXPORT_SCALE;
             [z.re, z.im, h]
         }));
     let reflected = tile.is_some_and(|t| t.reflected);
     let far = |i: u32| {
         let p = group.positions[(offset + i) as usize];
         let r = p[0].hypot(p[1]);
-        r.is_nan() || r > FARTHEST_EXPORTED
+        r.is_nan() || r > FARTHEST_EXPORTED * EXPORT_SCALE
     };
     let mut omitted = 0;
     for t in &surface.triangles {

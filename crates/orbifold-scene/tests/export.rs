@@ -332,3 +332,60 @@ proptest! {
         }
     }
 }
+
+/// Exports keep proportions: horizontal coordinates are scaled by the model's metric at its
+/// centre (`EXPORT_SCALE`), so a sphere at the centre comes out round, and a Euclidean room's
+/// walls are as long in the file as they are intrinsically.
+#[test]
+fn exports_keep_the_proportions_of_the_room_and_its_objects() {
+    use orbifold_scene::geometry::EXPORT_SCALE;
+    for (signature, tolerance) in [("*2222", 1e-9), ("*235", 0.01), ("*22222", 0.01)] {
+        let mut scene = Scene::default();
+        scene.orbifold.signature = signature.into();
+        scene.lights.clear();
+        scene.camera.at = [0.0, 0.0];
+        scene.objects.truncate(1);
+        scene.objects[0].shape = "sphere".into();
+        scene.objects[0].at = [0.0, 0.0];
+        scene.objects[0].size = 0.2;
+        scene.objects[0].height = 0.1;
+        let geometry = scene.geometry(None).unwrap();
+        let (groups, _) = geometry.groups(&[]);
+        let sphere = groups.iter().find(|g| g.name == "object 0").unwrap();
+        let extent = |k: usize| {
+            let values = sphere.positions.iter().map(|p| p[k]);
+            values.clone().fold(f64::MIN, f64::max) - values.fold(f64::MAX, f64::min)
+        };
+        let (x, y, h) = (extent(0), extent(1), extent(2));
+        assert!((h - 0.2).abs() < 1e-9, "{signature}: height {h}");
+        for width in [x, y] {
+            assert!(
+                (width / h - 1.0).abs() < tolerance,
+                "{signature}: the sphere is {x} × {y} × {h} in the export"
+            );
+        }
+    }
+    // A Euclidean room's floor corners are the polygon's, at true scale.
+    let mut scene = Scene::default();
+    scene.orbifold.signature = "*333".into();
+    scene.objects.clear();
+    scene.lights.clear();
+    scene.camera.at = [0.0, 0.0];
+    let geometry = scene.geometry(None).unwrap();
+    let (groups, _) = geometry.groups(&[]);
+    let floor = groups.iter().find(|g| g.name == "floor").unwrap();
+    for (i, edge) in geometry.layout.edges.iter().enumerate() {
+        let corner = geometry.layout.vertices[i].position * EXPORT_SCALE;
+        let nearest = floor
+            .positions
+            .iter()
+            .map(|p| (p[0] - corner.re).hypot(p[1] - corner.im))
+            .fold(f64::MAX, f64::min);
+        assert!(
+            nearest < 1e-9,
+            "corner {i} is {nearest} from the floor's vertices"
+        );
+        let next = geometry.layout.vertices[(i + 1) % 3].position * EXPORT_SCALE;
+        assert!(((next - corner).norm() - edge.length).abs() < 1e-9);
+    }
+}
