@@ -42,7 +42,7 @@ pub enum Command {
     /// Draw the universal cover as a tiling: PNG (every pixel folded into the polygon) or SVG.
     #[command(after_help = TILING_EXAMPLES)]
     Tiling(TilingArgs),
-    /// Create and check mirror-room scene files (TOML; see docs/scene-format.md).
+    /// Create, check and show mirror-room scene files (TOML; see docs/scene-format.md).
     #[command(subcommand)]
     Scene(SceneCommand),
     /// Mesh a mirror room (floor, ceiling, walls, mirrors, objects) and export it as OBJ, PLY or
@@ -470,6 +470,19 @@ pub enum SceneCommand {
         /// The scene files.
         #[arg(value_name = "FILE", required = true)]
         files: Vec<std::path::PathBuf>,
+    },
+    /// Print a scene with every field, the defaults filled in: what the renderer, the preview
+    /// and the exports will use (for scripts, `--json`).
+    #[command(
+        after_help = "Examples:\n  orbifold scene show examples/scenes/fig-1.2-333.toml\n  orbifold scene show room.toml --json | jq .lights"
+    )]
+    Show {
+        /// The scene file.
+        #[arg(value_name = "FILE")]
+        file: std::path::PathBuf,
+        /// Print JSON instead of TOML.
+        #[arg(long)]
+        json: bool,
     },
 }
 

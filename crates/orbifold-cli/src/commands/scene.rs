@@ -1,4 +1,4 @@
-//! `orbifold scene`: create and check scene files.
+//! `orbifold scene`: create, check and show scene files.
 
 use std::io::Write;
 
@@ -72,6 +72,23 @@ pub fn run(command: &SceneCommand) -> Result<(), CliError> {
             out.flush()?;
             if !problems.is_empty() {
                 return Err(CliError::Input(problems.join("\nerror: ")));
+            }
+        }
+        SceneCommand::Show { file, json } => {
+            let scene = Scene::load(file).map_err(|errors| {
+                let list: Vec<String> = errors.iter().map(ToString::to_string).collect();
+                CliError::Input(list.join("\nerror: "))
+            })?;
+            if *json {
+                let value = serde_json::to_value(&scene)
+                    .map_err(|e| CliError::Input(format!("cannot write the scene as JSON: {e}")))?;
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string_pretty(&value).unwrap_or_default()
+                )?;
+            } else {
+                write!(out, "{}", scene.to_toml())?;
             }
         }
     }

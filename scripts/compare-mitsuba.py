@@ -1,0 +1,288 @@
+#!/usr/bin/env python3
+"""Renders a Euclidean mirror room with Mitsuba 3 and with `orbifold render`, and compares them.
+
+A peer-renderer check of the light transport: the room is exported with `orbifold room` (at
+its true size: export coordinates are twice the model's, docs/room.md), its walls, floor,
+ceiling and objects become Mitsuba meshes (diffuse colours, mirrors as perfect conductors of the
+same reflectance), the scene file's sphere lights become Mitsuba sphere emitters of the same
+power and its downward rectangle lights rectangles, and the camera the same pinhole camera. Both
+images are linear EXR with a box pixel filter. Mitsuba's path tracer finds the light through
+mirrors only by hitting it; ours samples it through its mirror images — the two must agree
+within their noise.
+
+Each renderer renders SEEDS images with different seeds; the standard error of every 8×8 block
+comes from their spread. The script prints the mean luminance ratio and the distribution of
+the blocks' z-scores (difference over its standard error) and writes a side-by-side picture.
+
+Needs `pip install mitsuba numpy pillow` (3.x; `--variant llvm_ad_rgb` is faster where
+Dr.Jit finds a recent libLLVM; the default is scalar_rgb) and a release build (`cargo build --release -p orbifold-cli`).
+
+    python3 scripts/compare-mitsuba.py examples/peer/mirrors-2222.toml \
+        [--size 160x120] [--spp 1024] [--orbifold-spp 256] [--seeds 4] [--out DIR] \
+        [--orbifold-args "--no-radiance-cache --no-footprint"]
+"""
+import argparse
+import json
+import math
+import os
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+BINARY = os.environ.get("ORBIFOLD", "target/release/orbifold")
+EXPORT_SCALE = 2.0  # orbifold_scene::geometry::EXPORT_SCALE
+BLOCK = 8
+
+
+def parse_args():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("scene")
+    p.add_argument("--size", default="160x120")
+    p.add_argument("--spp", type=int, default=1024, help="Mitsuba samples per pixel, per seed")
+    p.add_argument("--orbifold-spp", type=int, default=256, help="ours, per seed")
+    p.add_argument("--seeds", type=int, default=4)
+    p.add_argument("--out", default="peer-out")
+    p.add_argument("--orbifold-args", default="--no-radiance-cache --no-footprint",
+                   help="extra arguments for `orbifold render` (default: unbiased, no cache)")
+    p.add_argument("--variant", default=None, help="Mitsuba variant (default scalar_rgb)")
+    return p.parse_args()
+
+
+def read_obj(path):
+    """Groups of an OBJ written by `orbifold room`: name -> (material, positions, normals, faces)."""
+    v, vn, groups, current = [], [], {}, None
+    for line in open(path):
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "v":
+            v.append([float(x) for x in parts[1:4]])
+        elif parts[0] == "vn":
+            vn.append([float(x) for x in parts[1:4]])
+        elif parts[0] == "o":
+            current = groups.setdefault(parts[1], {"material": None, "faces": []})
+        elif parts[0] == "usemtl":
+            current["material"] = parts[1]
+        elif parts[0] == "f":
+            current["faces"].append([tuple(int(i) - 1 for i in c.split("//")) for c in parts[1:]])
+    v, vn = np.array(v), np.array(vn)
+    out = {}
+    for name, g in groups.items():
+        corners = [c for f in g["faces"] for c in f]
+        keys = sorted(set(corners))
+        index = {k: i for i, k in enumerate(keys)}
+        positions = np.array([v[a] for a, _ in keys])
+        normals = np.array([vn[b] for _, b in keys])
+        faces = np.array([[index[c] for c in f] for f in g["faces"]], dtype=np.uint32)
+        out[name] = (g["material"], positions, normals, faces)
+    return out
+
+
+def read_mtl(path):
+    materials, current = {}, None
+    for line in open(path):
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "newmtl":
+            current = materials.setdefault(parts[1], {})
+        elif parts[0] in ("Kd", "Ks"):
+            current[parts[0]] = [float(x) for x in parts[1:4]]
+        elif parts[0] == "illum":
+            current["illum"] = int(parts[1])
+    return materials
+
+
+def write_ply(path, positions, normals, faces):
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(positions)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              "property float nx\nproperty float ny\nproperty float nz\n"
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    vertices = np.hstack([positions, normals]).astype("<f4")
+    rows = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    rows["n"], rows["i"] = 3, faces
+    with open(path, "wb") as f:
+        f.write(header.encode())
+        f.write(vertices.tobytes())
+        f.write(rows.tobytes())
+
+
+def check_materials(scene):
+    """The comparison needs materials that the exported colours describe exactly."""
+    room = scene["room"]
+    found = [("room.floor", room["floor"]), ("room.ceiling", room["ceiling"]),
+             ("room.wall_material", room["wall_material"])]
+    found += [(f"walls[{i}].material", w.get("material")) for i, w in enumerate(scene.get("walls", []))]
+    found += [(f"objects[{i}].material", o["material"]) for i, o in enumerate(scene.get("objects", []))]
+    for where, material in found:
+        if material is not None and material["kind"] != "color":
+            sys.exit(f"error: {where}: only `kind = \"color\"` materials can be compared "
+                     f"(found {material['kind']!r})")
+
+
+def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
+    camera = scene["camera"]
+    at = np.array(camera["at"]) * EXPORT_SCALE
+    yaw, pitch = math.radians(camera["yaw"]), math.radians(camera["pitch"])
+    eye = [at[0], at[1], camera["height"]]
+    forward = [math.cos(pitch) * math.cos(yaw), math.cos(pitch) * math.sin(yaw), math.sin(pitch)]
+    if camera["kind"] != "pinhole":
+        sys.exit("error: camera.kind: only the pinhole camera can be compared")
+    d = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": -1},
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "y",
+            "fov": camera["fov"],
+            "near_clip": 1e-3,
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=eye, target=[e + f for e, f in zip(eye, forward)], up=[0, 0, 1]),
+            "film": {"type": "hdrfilm", "width": width, "height": height,
+                     "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+            "sampler": {"type": "independent"},
+        },
+    }
+    for name, (material, positions, normals, faces) in groups.items():
+        m = materials[material]
+        path = os.path.join(tmp, f"{name}.ply")
+        write_ply(path, positions, normals, faces)
+        if m.get("illum") == 3:
+            bsdf = {"type": "conductor", "material": "none",
+                    "specular_reflectance": {"type": "rgb", "value": m["Ks"]}}
+        else:
+            bsdf = {"type": "diffuse", "reflectance": {"type": "rgb", "value": m["Kd"]}}
+        d[name.replace(".", "_")] = {"type": "ply", "filename": path, "bsdf": {"type": "twosided", "bsdf": bsdf}}
+    for i, light in enumerate(scene.get("lights", [])):
+        kind = light["kind"]
+        colour = np.array(light["color"]) * light["power"]
+        at = np.array(light["at"]) * EXPORT_SCALE
+        h = light["height"]
+        if kind == "sphere":
+            r = light["radius"]
+            radiance = colour / (math.pi * 4 * math.pi * r * r)
+            d[f"light {i}"] = {"type": "sphere", "center": [at[0], at[1], h], "radius": r,
+                               "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}}}
+        elif kind == "rectangle" and abs(light["pitch"] + 90.0) < 1e-9:
+            w, l = light["size"]
+            radiance = colour / (math.pi * w * l)
+            to_world = (mi.ScalarTransform4f().translate([at[0], at[1], h])
+                        .scale([0.5 * w, 0.5 * l, 1.0]).rotate([1, 0, 0], 180))
+            d[f"light {i}"] = {"type": "rectangle", "to_world": to_world,
+                               "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}}}
+        else:
+            sys.exit(f"error: lights[{i}]: only sphere lights and rectangle lights pointing straight "
+                     "down can be compared (Mitsuba's point lights never light through a mirror)")
+    return d
+
+
+def luminance(img):
+    return img[..., :3] @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def blocks(img):
+    h, w = img.shape[:2]
+    h, w = h - h % BLOCK, w - w % BLOCK
+    lum = luminance(img[:h, :w])
+    return lum.reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
+
+
+def tone(img, exposure):
+    x = np.clip(img[..., :3] * exposure, 0, None)
+    x = x / (1 + x)  # Reinhard: the same curve for both images
+    return (255 * np.clip(x, 0, 1) ** (1 / 2.2)).astype(np.uint8)
+
+
+def main():
+    args = parse_args()
+    width, height = (int(x) for x in args.size.split("x"))
+    os.makedirs(args.out, exist_ok=True)
+    # The scene as the renderer sees it, every default filled in.
+    scene = json.loads(subprocess.run([BINARY, "scene", "show", args.scene, "--json"], check=True,
+                                      capture_output=True, text=True).stdout)
+    check_materials(scene)
+    import mitsuba as mi
+    variant = args.variant or "scalar_rgb"
+    mi.set_variant(variant)
+
+    with tempfile.TemporaryDirectory() as tmp:
+        report = json.loads(subprocess.run(
+            [BINARY, "room", args.scene, "-o", f"{tmp}/room.obj", "--json"],
+            check=True, capture_output=True, text=True).stdout)
+        if report["geometry"] != "euclidean":
+            sys.exit(f"error: {args.scene}: a {report['geometry']} room; only Euclidean rooms have a "
+                     "peer renderer")
+        groups = read_obj(f"{tmp}/room.obj")
+        materials = read_mtl(f"{tmp}/room.mtl")
+        ours, theirs, timing = [], [], {"orbifold": 0.0, "mitsuba": 0.0}
+        for seed in range(args.seeds):
+            out = f"{tmp}/ours-{seed}.exr"
+            start = time.perf_counter()
+            subprocess.run([BINARY, "render", args.scene, "-o", out, "--size", args.size,
+                            "--spp", str(args.orbifold_spp), "--no-adaptive", "--seed", str(seed),
+                            *shlex.split(args.orbifold_args)], check=True, capture_output=True)
+            timing["orbifold"] += time.perf_counter() - start
+            ours.append(np.array(mi.Bitmap(out), dtype=np.float64)[..., :3])
+        d = mitsuba_scene(mi, scene, groups, materials, width, height, tmp)
+        mscene = mi.load_dict(d)
+        for seed in range(args.seeds):
+            start = time.perf_counter()
+            img = mi.render(mscene, spp=args.spp, seed=seed)
+            theirs.append(np.array(img, dtype=np.float64)[..., :3])
+            timing["mitsuba"] += time.perf_counter() - start
+
+    ours, theirs = np.array(ours), np.array(theirs)
+    o_mean, t_mean = ours.mean(axis=0), theirs.mean(axis=0)
+    ob = np.array([blocks(x) for x in ours])
+    tb = np.array([blocks(x) for x in theirs])
+    se2 = ob.var(axis=0, ddof=1) / args.seeds + tb.var(axis=0, ddof=1) / args.seeds
+    diff = ob.mean(axis=0) - tb.mean(axis=0)
+    z = diff / np.sqrt(np.maximum(se2, 1e-30))
+    lit = tb.mean(axis=0) > 0.01 * tb.mean()
+    rel = np.abs(diff[lit]) / tb.mean(axis=0)[lit]
+    summary = {
+        "scene": args.scene, "size": args.size, "mitsuba": f"{mi.__version__} {variant}",
+        "seeds": args.seeds, "mitsuba_spp": args.spp, "orbifold_spp": args.orbifold_spp,
+        "orbifold_args": args.orbifold_args,
+        "mean_luminance": {"orbifold": float(luminance(o_mean).mean()),
+                           "mitsuba": float(luminance(t_mean).mean())},
+        "ratio": float(luminance(o_mean).mean() / luminance(t_mean).mean()),
+        "ratio_standard_error": float(math.sqrt(
+            luminance(ours).mean(axis=(1, 2)).var(ddof=1) / args.seeds
+            + luminance(theirs).mean(axis=(1, 2)).var(ddof=1) / args.seeds) / luminance(t_mean).mean()),
+        "blocks": int(z.size),
+        "block_z": {"rms": float(np.sqrt((z ** 2).mean())), "over_3": float((np.abs(z) > 3).mean()),
+                    "largest": float(np.abs(z).max())},
+        "block_relative_difference": {"median": float(np.median(rel)), "p90": float(np.percentile(rel, 90)),
+                                      "largest": float(rel.max())},
+        "seconds": timing,
+    }
+    # Work-normalised noise: the mean relative pixel variance of one image times the seconds it
+    # took. Their ratio is how many times longer Mitsuba takes to reach our noise (both on the
+    # same cores), counting its fireflies.
+    def variance_time(images, seconds):
+        lum = luminance(images)
+        relative = lum.var(axis=0, ddof=1) / (lum.mean(axis=0) + 0.01) ** 2
+        return float(relative.mean()) * seconds / args.seeds
+    summary["variance_times_seconds"] = {"orbifold": variance_time(ours, timing["orbifold"]),
+                                         "mitsuba": variance_time(theirs, timing["mitsuba"])}
+    summary["mitsuba_time_to_our_noise"] = (summary["variance_times_seconds"]["mitsuba"]
+                                            / summary["variance_times_seconds"]["orbifold"])
+    print(json.dumps(summary, indent=2))
+    exposure = 0.18 / max(math.exp(np.log(luminance(t_mean) + 1e-4).mean()), 1e-6)
+    from PIL import Image
+    a, b = tone(o_mean, exposure), tone(t_mean, exposure)
+    heat = np.clip(np.abs(luminance(o_mean) - luminance(t_mean)) / (luminance(t_mean) + 0.05) * 255 * 4, 0, 255)
+    gap = np.full((height, 4, 3), 255, dtype=np.uint8)
+    side = np.concatenate([a, gap, b, gap, np.repeat(heat[..., None], 3, axis=2).astype(np.uint8)], axis=1)
+    name = os.path.splitext(os.path.basename(args.scene))[0]
+    Image.fromarray(side).save(f"{args.out}/{name}.png")
+    json.dump(summary, open(f"{args.out}/{name}.json", "w"), indent=2)
+
+
+if __name__ == "__main__":
+    main()
