@@ -38,3 +38,53 @@ fn new_and_check() {
     assert!(!dir.join("bad.toml").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `scene show` fills in every default: its TOML is the same scene, and its JSON has the
+/// defaults a script needs (the light's colour, the camera's field of view).
+#[test]
+fn show_fills_in_the_defaults() {
+    let dir = std::env::temp_dir().join(format!("orbifold-scene-show-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("room.toml");
+    std::fs::write(
+        &file,
+        "[orbifold]\nsignature = \"*333\"\n\n[[lights]]\nkind = \"sphere\"\npower = 5.0\n",
+    )
+    .unwrap();
+    let toml = Command::cargo_bin("orbifold")
+        .unwrap()
+        .args(["scene", "show"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(toml.status.success());
+    let shown = String::from_utf8(toml.stdout).unwrap();
+    let original = orbifold_scene::Scene::load(&file).unwrap();
+    assert_eq!(orbifold_scene::Scene::from_toml(&shown, None).unwrap(), original);
+    assert!(shown.contains("fov = "), "{shown}");
+
+    let json = Command::cargo_bin("orbifold")
+        .unwrap()
+        .args(["scene", "show", "--json"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(json.status.success());
+    let value: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(value["orbifold"]["signature"], "*333");
+    assert_eq!(value["lights"][0]["kind"], "sphere");
+    assert_eq!(value["lights"][0]["power"], 5.0);
+    assert_eq!(value["lights"][0]["color"], serde_json::json!([1.0, 0.95, 0.9]));
+    assert!(value["camera"]["fov"].is_number());
+
+    std::fs::write(&file, "[room]\nheight = -1\n").unwrap();
+    Command::cargo_bin("orbifold")
+        .unwrap()
+        .args(["scene", "show"])
+        .arg(&file)
+        .assert()
+        .code(2)
+        .stdout(predicate::str::is_empty())
+        .stderr(predicate::str::contains("room.height"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
