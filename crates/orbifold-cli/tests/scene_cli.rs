@@ -60,7 +60,10 @@ fn show_fills_in_the_defaults() {
     assert!(toml.status.success());
     let shown = String::from_utf8(toml.stdout).unwrap();
     let original = orbifold_scene::Scene::load(&file).unwrap();
-    assert_eq!(orbifold_scene::Scene::from_toml(&shown, None).unwrap(), original);
+    assert_eq!(
+        orbifold_scene::Scene::from_toml(&shown, None).unwrap(),
+        original
+    );
     assert!(shown.contains("fov = "), "{shown}");
 
     let json = Command::cargo_bin("orbifold")
@@ -74,7 +77,10 @@ fn show_fills_in_the_defaults() {
     assert_eq!(value["orbifold"]["signature"], "*333");
     assert_eq!(value["lights"][0]["kind"], "sphere");
     assert_eq!(value["lights"][0]["power"], 5.0);
-    assert_eq!(value["lights"][0]["color"], serde_json::json!([1.0, 0.95, 0.9]));
+    assert_eq!(
+        value["lights"][0]["color"],
+        serde_json::json!([1.0, 0.95, 0.9])
+    );
     assert!(value["camera"]["fov"].is_number());
 
     std::fs::write(&file, "[room]\nheight = -1\n").unwrap();

@@ -1003,10 +1003,11 @@ fn rectangle(axis: DVec3, size: [f64; 2]) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, f64)
     } else {
         axis.cross(DVec3::Z).normalize()
     };
-    let up = right.cross(axis);
+    // (right, up, axis) right-handed, so that right × up = axis: the front faces the axis.
+    let up = axis.cross(right);
     let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .map(|(a, b)| right * (0.5 * size[0] * a) + up * (0.5 * size[1] * b));
-    // Wound counter-clockwise seen from the front: (right, up, axis) is right-handed.
+    // Wound counter-clockwise seen from the front.
     let lowest = corners.iter().map(|c| c.z).fold(f64::INFINITY, f64::min);
     let positions = corners.iter().map(|c| [c.x, c.z, -c.y]).collect();
     (positions, vec![[0, 1, 2], [0, 2, 3]], lowest)

@@ -490,3 +490,67 @@ fn a_point_light_lights_the_room_as_a_tiny_sphere_light_of_the_same_power() {
         );
     }
 }
+
+/// Spot and rectangle lights shine where they point. A white floor under a light pointing
+/// straight down, seen through a narrow camera with direct light only, has the radiance E/π of
+/// the analytic irradiance at the point below the light; pointing up, the floor stays dark.
+#[test]
+fn spot_and_rectangle_lights_shine_where_they_point() {
+    let (height, power, size) = (0.85_f64, 30.0, [0.3_f64, 0.2_f64]);
+    // Irradiance under the centre of a w × l Lambertian rectangle of radiance L at distance d:
+    // four corner rectangles, each of form factor (1/2π)[x/√(1+x²) atan(y/√(1+x²)) + (x ↔ y)].
+    let corner = |x: f64, y: f64| {
+        let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+        (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
+    };
+    let radiance = power / (std::f64::consts::PI * size[0] * size[1]);
+    let rectangle_e = std::f64::consts::PI
+        * radiance
+        * 4.0
+        * corner(0.5 * size[0] / height, 0.5 * size[1] / height);
+    // A spot of power P over the cone of half-angle θ: intensity P / (2π(1 − cos θ)).
+    let cone = 40.0_f64;
+    let spot_e =
+        power / (2.0 * std::f64::consts::PI * (1.0 - cone.to_radians().cos())) / (height * height);
+    for (kind, irradiance) in [
+        (LightKind::Rectangle, rectangle_e),
+        (LightKind::Spot, spot_e),
+    ] {
+        for pitch in [-90.0, 90.0] {
+            let mut scene = Scene::default();
+            scene.orbifold.signature = "*2222".into();
+            scene.objects.clear();
+            scene.room.mirrors = orbifold_scene::MirrorDefault::None;
+            let black = Material::Color { color: [0.0; 3] };
+            scene.room.wall_material = black.clone();
+            scene.room.ceiling = black;
+            scene.room.floor = Material::Color { color: [1.0; 3] };
+            let light = &mut scene.lights[0];
+            (light.kind, light.at, light.height) = (kind, [0.0, 0.0], height);
+            (light.power, light.color, light.size) = (power, [1.0; 3], size);
+            (light.pitch, light.cone) = (pitch, cone);
+            // The camera 0.2 to the side (0.1 in the model) at height 0.5 looks at the floor
+            // right under the light through a one-degree pixel.
+            scene.camera.at = [-0.1, 0.0];
+            scene.camera.height = 0.5;
+            scene.camera.yaw = 0.0;
+            scene.camera.pitch = -(0.5_f64 / 0.2).atan().to_degrees();
+            scene.camera.fov = 1.0;
+            let settings = Settings {
+                max_depth: 1,
+                ..in_full(true)
+            };
+            let film = sized_image(&scene, settings, (1, 1), 256, 3);
+            let seen = luminance(film.pixel(0, 0));
+            let expected = if pitch < 0.0 {
+                irradiance / std::f64::consts::PI
+            } else {
+                0.0
+            };
+            assert!(
+                (seen - expected).abs() <= 0.03 * irradiance / std::f64::consts::PI,
+                "{kind:?} pointing at pitch {pitch}: floor radiance {seen}, expected {expected}"
+            );
+        }
+    }
+}
