@@ -12,7 +12,9 @@ within their noise.
 
 Each renderer renders SEEDS images with different seeds; the standard error of every 8×8 block
 comes from their spread. The script prints the mean luminance ratio and the distribution of
-the blocks' z-scores (difference over its standard error) and writes a side-by-side picture.
+the blocks' z-scores (difference over its standard error) and writes a picture: ours, Mitsuba's,
+and the blocks' z-scores (white: agreement; red: ours brighter, blue: darker, full at 3 standard
+errors).
 
 Needs `pip install mitsuba numpy pillow` (3.x; `--variant llvm_ad_rgb` is faster where
 Dr.Jit finds a recent libLLVM; the default is scalar_rgb) and a release build (`cargo build --release -p orbifold-cli`).
@@ -276,12 +278,19 @@ def main():
     exposure = 0.18 / max(math.exp(np.log(luminance(t_mean) + 1e-4).mean()), 1e-6)
     from PIL import Image
     a, b = tone(o_mean, exposure), tone(t_mean, exposure)
-    heat = np.clip(np.abs(luminance(o_mean) - luminance(t_mean)) / (luminance(t_mean) + 0.05) * 255 * 4, 0, 255)
+    # The blocks' z-scores: red where ours is brighter, blue where darker, full at 3 standard errors.
+    zmap = np.clip(np.kron(z, np.ones((BLOCK, BLOCK))) / 3, -1, 1)
+    heat = np.full((height, width, 3), 255, dtype=np.uint8)
+    zh, zw = zmap.shape
+    heat[:zh, :zw, 1] = (255 * (1 - np.abs(zmap))).astype(np.uint8)
+    heat[:zh, :zw, 0] = (255 * (1 - np.clip(-zmap, 0, 1))).astype(np.uint8)
+    heat[:zh, :zw, 2] = (255 * (1 - np.clip(zmap, 0, 1))).astype(np.uint8)
     gap = np.full((height, 4, 3), 255, dtype=np.uint8)
-    side = np.concatenate([a, gap, b, gap, np.repeat(heat[..., None], 3, axis=2).astype(np.uint8)], axis=1)
+    side = np.concatenate([a, gap, b, gap, heat], axis=1)
     name = os.path.splitext(os.path.basename(args.scene))[0]
     Image.fromarray(side).save(f"{args.out}/{name}.png")
     json.dump(summary, open(f"{args.out}/{name}.json", "w"), indent=2)
+    np.savez_compressed(f"{args.out}/{name}.npz", orbifold=ours, mitsuba=theirs)
 
 
 if __name__ == "__main__":
