@@ -2,13 +2,14 @@
 """Renders a Euclidean mirror room with Mitsuba 3 and with `orbifold render`, and compares them.
 
 A peer-renderer check of the light transport: the room is exported with `orbifold room` (at
-its true size: export coordinates are twice the model's, docs/room.md), its walls, floor,
-ceiling and objects become Mitsuba meshes (diffuse colours, mirrors as perfect conductors of the
-same reflectance), the scene file's sphere lights become Mitsuba sphere emitters of the same
-power and its downward rectangle lights rectangles, and the camera the same pinhole camera. Both
-images are linear EXR with a box pixel filter. Mitsuba's path tracer finds the light through
-mirrors only by hitting it; ours samples it through its mirror images — the two must agree
-within their noise.
+its true size: export coordinates are twice the model's, docs/room.md) and read as the renderer
+reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
+meshes with the exported normals: colours and checkerboards (floor and ceiling) become
+`diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`. Sphere lights
+become sphere emitters of the same power, rectangle lights pointing down rectangles, and the
+camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
+path tracer finds the light through mirrors and glass only by hitting it; ours samples it
+through its mirror images — the two must agree within their noise.
 
 Each renderer renders SEEDS images with different seeds; the standard error of every 8×8 block
 comes from their spread. The script prints the mean luminance ratio and the distribution of
@@ -99,12 +100,14 @@ def read_mtl(path):
     return materials
 
 
-def write_ply(path, positions, normals, faces):
+def write_ply(path, positions, normals, faces, uv=None):
+    columns = [positions, normals] + ([uv] if uv is not None else [])
     header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(positions)}\n"
               "property float x\nproperty float y\nproperty float z\n"
               "property float nx\nproperty float ny\nproperty float nz\n"
-              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
-    vertices = np.hstack([positions, normals]).astype("<f4")
+              + ("property float u\nproperty float v\n" if uv is not None else "")
+              + f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    vertices = np.hstack(columns).astype("<f4")
     rows = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", (3,))])
     rows["n"], rows["i"] = 3, faces
     with open(path, "wb") as f:
@@ -113,17 +116,82 @@ def write_ply(path, positions, normals, faces):
         f.write(rows.tobytes())
 
 
+def identifier(name):
+    return "".join("_" if c.isspace() else c for c in name)
+
+
+def scene_material(scene, group):
+    """The scene's material of an exported group (None for a mirror)."""
+    room = scene["room"]
+    if group == "floor":
+        return "room.floor", room["floor"]
+    if group == "ceiling":
+        return "room.ceiling", room["ceiling"]
+    if group.startswith("mirror_"):
+        return group, None
+    if group.startswith("wall_"):
+        index = int(group[5:])
+        for i, wall in enumerate(scene.get("walls", [])):
+            if wall["index"] == index and wall.get("material") is not None:
+                return f"walls[{i}].material", wall["material"]
+        return "room.wall_material", room["wall_material"]
+    for i, obj in enumerate(scene.get("objects", [])):
+        if identifier(obj.get("name", f"object {i}")) == group:
+            return f"objects[{i}].material", obj["material"]
+    sys.exit(f"error: the export has a group {group!r} that the scene does not name")
+
+
+def checker_uv(scene, where, material, positions):
+    """Mitsuba's checkerboard is color0 where ⌊2u⌋ + ⌊2v⌋ is even: u, v = p / (2 size) puts
+    its squares on ours, whose parity is ⌊x/size⌋ + ⌊y/size⌋ + ⌊h/size⌋ in model coordinates or
+    in the logarithm map at the room's centre (in the Euclidean plane: the offset from it)."""
+    if where not in ("room.floor", "room.ceiling"):
+        sys.exit(f"error: {where}: checkerboards are compared on the floor and ceiling only")
+    size = material["size"]
+    if material.get("coordinates", "model") == "intrinsic":
+        if scene["orbifold"].get("angle", 0.0) != 0.0:
+            sys.exit(f"error: {where}: an intrinsic checkerboard in a turned room (orbifold.angle)")
+        centre = np.array(scene["orbifold"].get("at", [0.0, 0.0])) * EXPORT_SCALE
+        p = positions[:, :2] - centre
+    else:
+        p = positions[:, :2] / EXPORT_SCALE
+    flipped = math.floor(positions[0, 2] / size) % 2 == 1
+    return p / (2 * size), flipped
+
+
 def check_materials(scene):
-    """The comparison needs materials that the exported colours describe exactly."""
+    """The comparison needs materials that Mitsuba has exactly."""
     room = scene["room"]
     found = [("room.floor", room["floor"]), ("room.ceiling", room["ceiling"]),
              ("room.wall_material", room["wall_material"])]
     found += [(f"walls[{i}].material", w.get("material")) for i, w in enumerate(scene.get("walls", []))]
     found += [(f"objects[{i}].material", o["material"]) for i, o in enumerate(scene.get("objects", []))]
     for where, material in found:
-        if material is not None and material["kind"] != "color":
-            sys.exit(f"error: {where}: only `kind = \"color\"` materials can be compared "
-                     f"(found {material['kind']!r})")
+        if material is not None and material["kind"] not in ("color", "checker", "glass"):
+            sys.exit(f"error: {where}: only colour, checkerboard and glass materials can be "
+                     f"compared (found {material['kind']!r})")
+
+
+def rgb(value):
+    return {"type": "rgb", "value": list(value)}
+
+
+def mitsuba_bsdf(scene, group, mtl, positions):
+    """The Mitsuba BSDF of an exported group, and its texture coordinates if it needs them."""
+    where, material = scene_material(scene, group)
+    if material is None:
+        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                                             "specular_reflectance": rgb(mtl["Ks"])}}, None
+    kind = material["kind"]
+    if kind == "glass":
+        return {"type": "dielectric", "int_ior": material["ior"], "ext_ior": 1.0,
+                "specular_transmittance": rgb(material["tint"])}, None
+    if kind == "checker":
+        uv, flipped = checker_uv(scene, where, material, positions)
+        a, b = material["colors"][::-1] if flipped else material["colors"]
+        texture = {"type": "checkerboard", "color0": rgb(a), "color1": rgb(b)}
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, uv
+    return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(material["color"])}}, None
 
 
 def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
@@ -150,15 +218,10 @@ def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
         },
     }
     for name, (material, positions, normals, faces) in groups.items():
-        m = materials[material]
         path = os.path.join(tmp, f"{name}.ply")
-        write_ply(path, positions, normals, faces)
-        if m.get("illum") == 3:
-            bsdf = {"type": "conductor", "material": "none",
-                    "specular_reflectance": {"type": "rgb", "value": m["Ks"]}}
-        else:
-            bsdf = {"type": "diffuse", "reflectance": {"type": "rgb", "value": m["Kd"]}}
-        d[name.replace(".", "_")] = {"type": "ply", "filename": path, "bsdf": {"type": "twosided", "bsdf": bsdf}}
+        bsdf, uv = mitsuba_bsdf(scene, name, materials[material], positions)
+        write_ply(path, positions, normals, faces, uv)
+        d[name.replace(".", "_")] = {"type": "ply", "filename": path, "bsdf": bsdf}
     for i, light in enumerate(scene.get("lights", [])):
         kind = light["kind"]
         colour = np.array(light["color"]) * light["power"]
