@@ -5,7 +5,9 @@ A peer-renderer check of the light transport: the room is exported with `orbifol
 its true size: export coordinates are twice the model's, docs/room.md) and read as the renderer
 reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
 meshes with the exported normals: colours and checkerboards (floor and ceiling) become
-`diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`. Sphere lights
+`diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
+`roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base;
+ours approximates it, so expect a few per cent there). Sphere lights
 become sphere emitters of the same power, rectangle lights pointing down rectangles, and the
 camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
 path tracer finds the light through mirrors and glass only by hitting it; ours samples it
@@ -167,9 +169,21 @@ def check_materials(scene):
     found += [(f"walls[{i}].material", w.get("material")) for i, w in enumerate(scene.get("walls", []))]
     found += [(f"objects[{i}].material", o["material"]) for i, o in enumerate(scene.get("objects", []))]
     for where, material in found:
-        if material is not None and material["kind"] not in ("color", "checker", "glass"):
-            sys.exit(f"error: {where}: only colour, checkerboard and glass materials can be "
-                     f"compared (found {material['kind']!r})")
+        if material is not None and material["kind"] not in ("color", "checker", "glass", "metal", "plastic"):
+            sys.exit(f"error: {where}: marble and image textures cannot be compared "
+                     f"(found {material['kind']!r})")
+
+
+# Complex indices of refraction (η, k per RGB channel) of the named metals: the values of
+# `orbifold_render::bsdf::Bsdf::{silver, gold, copper, aluminium}` (keep them in step), so that
+# Mitsuba's rough conductor gets the same Fresnel term as ours.
+METALS = {
+    "silver": ([0.1552646489, 0.1167232965, 0.1383806959], [4.8283433224, 3.1222459278, 2.1469504455]),
+    "gold": ([0.1431189557, 0.3749570432, 1.4424785571], [3.9831604247, 2.3857207478, 1.6032152899]),
+    "copper": ([0.2004376970, 0.9240334304, 1.1022119527], [3.9129485033, 2.4528477015, 2.1421879552]),
+    "aluminium": ([1.6574599595, 0.8803689579, 0.5212287346], [9.2238691996, 6.2695232477, 4.8370012281]),
+}
+PLASTIC_ETA = 1.5  # orbifold_render::bsdf::PLASTIC_ETA
 
 
 def rgb(value):
@@ -183,6 +197,20 @@ def mitsuba_bsdf(scene, group, mtl, positions):
         return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
                                              "specular_reflectance": rgb(mtl["Ks"])}}, None
     kind = material["kind"]
+    if kind == "metal":
+        eta, k = METALS[material["metal"]]
+        if material["roughness"] < 1e-3:  # orbifold_render::bsdf::DELTA_ROUGHNESS
+            bsdf = {"type": "conductor", "eta": rgb(eta), "k": rgb(k)}
+        else:
+            bsdf = {"type": "roughconductor", "distribution": "ggx", "alpha": material["roughness"],
+                    "eta": rgb(eta), "k": rgb(k)}
+        return {"type": "twosided", "bsdf": bsdf}, None
+    if kind == "plastic":
+        bsdf = {"type": "plastic", "int_ior": PLASTIC_ETA, "ext_ior": 1.0,
+                "diffuse_reflectance": rgb(material["color"])}
+        if material["roughness"] >= 1e-3:
+            bsdf.update(type="roughplastic", distribution="ggx", alpha=material["roughness"])
+        return {"type": "twosided", "bsdf": bsdf}, None
     if kind == "glass":
         return {"type": "dielectric", "int_ior": material["ior"], "ext_ior": 1.0,
                 "specular_transmittance": rgb(material["tint"])}, None

@@ -49,6 +49,16 @@ fn partial_mirror_scene() -> Scene {
     scene
 }
 
+/// The room of `signature` with nothing in it, the camera at the model's origin.
+fn empty_room(signature: &str) -> Scene {
+    let mut scene = Scene::default();
+    scene.orbifold.signature = signature.into();
+    scene.objects.clear();
+    scene.lights.clear();
+    scene.camera.at = [0.0, 0.0];
+    scene
+}
+
 fn expected_names(groups: &[MeshGroup]) -> Vec<String> {
     groups
         .iter()
@@ -226,12 +236,7 @@ fn ply_names_its_groups_and_reads_back() {
 
 #[test]
 fn cover_copies_are_whole_rooms() {
-    let mut scene = Scene::default();
-    scene.orbifold.signature = "*333".into();
-    scene.objects.clear();
-    scene.lights.clear();
-    scene.camera.at = [0.0, 0.0];
-    let geometry = scene.geometry(None).unwrap();
+    let geometry = empty_room("*333").geometry(None).unwrap();
     let cover = Cover::enumerate_layout(geometry.layout.clone(), Bound::Depth(3), true).unwrap();
     let (groups, omitted) = geometry.groups(&cover.tiles);
     assert_eq!(omitted, 0);
@@ -366,12 +371,7 @@ fn exports_keep_the_proportions_of_the_room_and_its_objects() {
         }
     }
     // A Euclidean room's floor corners are the polygon's, at true scale.
-    let mut scene = Scene::default();
-    scene.orbifold.signature = "*333".into();
-    scene.objects.clear();
-    scene.lights.clear();
-    scene.camera.at = [0.0, 0.0];
-    let geometry = scene.geometry(None).unwrap();
+    let geometry = empty_room("*333").geometry(None).unwrap();
     let (groups, _) = geometry.groups(&[]);
     let floor = groups.iter().find(|g| g.name == "floor").unwrap();
     for (i, edge) in geometry.layout.edges.iter().enumerate() {
