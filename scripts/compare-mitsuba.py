@@ -6,8 +6,8 @@ its true size: export coordinates are twice the model's, docs/room.md) and read 
 reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
 meshes with the exported normals: colours and checkerboards (floor and ceiling) become
 `diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
-`roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base;
-ours approximates it, so expect a few per cent there). Sphere lights
+`roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
+`nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
 become sphere emitters of the same power, rectangle lights pointing down rectangles, and the
 camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
 path tracer finds the light through mirrors and glass only by hitting it; ours samples it
@@ -206,7 +206,9 @@ def mitsuba_bsdf(scene, group, mtl, positions):
                     "eta": rgb(eta), "k": rgb(k)}
         return {"type": "twosided", "bsdf": bsdf}, None
     if kind == "plastic":
-        bsdf = {"type": "plastic", "int_ior": PLASTIC_ETA, "ext_ior": 1.0,
+        # Ours sums the light's bounces between the base and the coat, ρ/(1 − ρ F̄ᵢₙₜ): Mitsuba's
+        # `nonlinear` mode (its default divides by 1 − F̄ᵢₙₜ alone, brighter for dark bases).
+        bsdf = {"type": "plastic", "int_ior": PLASTIC_ETA, "ext_ior": 1.0, "nonlinear": True,
                 "diffuse_reflectance": rgb(material["color"])}
         if material["roughness"] >= 1e-3:
             bsdf.update(type="roughplastic", distribution="ggx", alpha=material["roughness"])

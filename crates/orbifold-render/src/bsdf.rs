@@ -106,8 +106,10 @@ pub enum Bsdf {
         /// GGX α, clamped to [0, 1].
         roughness: f64,
     },
-    /// Rough plastic: a GGX dielectric coat over a Lambertian base (the Mitsuba `roughplastic`
-    /// approximation, with smooth-interface transmittance factors; see [`Bsdf::eval`]).
+    /// Rough plastic: a GGX dielectric coat over a Lambertian base (Mitsuba's `roughplastic` in
+    /// its `nonlinear` mode — the light's bounces between base and coat sum to ρ/(1 − ρ F̄ᵢₙₜ) —
+    /// with smooth-interface transmittance factors where Mitsuba tabulates rough ones; see
+    /// [`Bsdf::eval`]).
     Plastic {
         /// Reflectance of the Lambertian base, clamped to [0, 1].
         albedo: Rgb,
