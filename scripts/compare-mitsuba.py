@@ -8,7 +8,7 @@ meshes with the exported normals: colours and checkerboards (floor and ceiling) 
 `diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
 `roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
 `nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
-become sphere emitters of the same power, rectangle lights pointing down rectangles, and the
+become the same 352-triangle Lambertian polyhedron, rectangle lights pointing down rectangles, and the
 camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
 path tracer finds the light through mirrors and glass only by hitting it; ours samples it
 through its mirror images — the two must agree within their noise.
@@ -116,6 +116,36 @@ def write_ply(path, positions, normals, faces, uv=None):
         f.write(header.encode())
         f.write(vertices.tobytes())
         f.write(rows.tobytes())
+
+
+def write_sphere_light(path, centre, radius, segments=16, rings=12):
+    """Our sphere light exactly: `uv_sphere(0.5, 16, 12)` (orbifold_scene::mesh::procedural)
+    scaled to `radius`, as orbifold_render::light builds it — object (ρ cos φ, y, ρ sin φ) is
+    (ρ cos φ, −ρ sin φ, y) in the room — a Lambertian polyhedron of the light's power (radiance
+    P / (π × its area), not a sphere's). Writes it with a face normal per triangle, facing out;
+    returns its area."""
+    def point(k, j):
+        theta, phi = math.pi * k / rings, 2 * math.pi * j / segments
+        rho, y = radius * math.sin(theta), radius * math.cos(theta)
+        return centre + np.array([rho * math.cos(phi), -rho * math.sin(phi), y])
+    triangles = []
+    for j in range(segments):
+        triangles.append([point(0, 0), point(1, j), point(1, j + 1)])
+        triangles.append([point(rings, 0), point(rings - 1, j), point(rings - 1, j + 1)])
+        for k in range(1, rings - 1):
+            a, b, c, e = point(k, j), point(k, j + 1), point(k + 1, j), point(k + 1, j + 1)
+            triangles += [[a, b, e], [a, e, c]]
+    positions, normals, area = [], [], 0.0
+    for t in triangles:
+        n = np.cross(t[1] - t[0], t[2] - t[0])
+        if np.dot(n, sum(t) / 3 - centre) < 0:
+            t, n = [t[0], t[2], t[1]], -n
+        area += 0.5 * np.linalg.norm(n)
+        positions += t
+        normals += [n / np.linalg.norm(n)] * 3
+    faces = np.arange(len(positions), dtype=np.uint32).reshape(-1, 3)
+    write_ply(path, np.array(positions), np.array(normals), faces)
+    return area
 
 
 def identifier(name):
@@ -258,10 +288,11 @@ def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
         at = np.array(light["at"]) * EXPORT_SCALE
         h = light["height"]
         if kind == "sphere":
-            r = light["radius"]
-            radiance = colour / (math.pi * 4 * math.pi * r * r)
-            d[f"light {i}"] = {"type": "sphere", "center": [at[0], at[1], h], "radius": r,
-                               "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}}}
+            path = os.path.join(tmp, f"light-{i}.ply")
+            area = write_sphere_light(path, np.array([at[0], at[1], h]), light["radius"])
+            d[f"light {i}"] = {"type": "ply", "filename": path, "face_normals": True,
+                               "bsdf": {"type": "diffuse", "reflectance": rgb([0.0, 0.0, 0.0])},
+                               "emitter": {"type": "area", "radiance": rgb(colour / (math.pi * area))}}
         elif kind == "rectangle" and abs(light["pitch"] + 90.0) < 1e-9:
             w, l = light["size"]
             radiance = colour / (math.pi * w * l)

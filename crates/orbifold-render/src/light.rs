@@ -354,7 +354,7 @@ impl ImageSet {
 
 /// Triangles per block of [`Facing::kept_blocks`].
 const BLOCK: usize = 8;
-/// Most blocks (a sphere light has 384 triangles: 48).
+/// Most blocks (a sphere light has 352 triangles: 44).
 const MAX_BLOCKS: usize = 64;
 
 /// What lets light sampling skip the triangles of a sphere light that face away from the point
@@ -690,7 +690,7 @@ impl Light {
                     }
                     LightKind::Sphere => {
                         // Coarser than the built-in object sphere: light sampling scans the
-                        // triangles that face the lit point, 384 here.
+                        // triangles that face the lit point, 352 here (2 × 16 × 11).
                         let mesh = orbifold_scene::mesh::procedural::uv_sphere(0.5, 16, 12);
                         let centre =
                             orbifold::embed::centre_of_mass(&mesh.positions, &mesh.triangles);
