@@ -8,8 +8,9 @@ meshes with the exported normals: colours and checkerboards (floor and ceiling) 
 `diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
 `roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
 `nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
-become the same 352-triangle Lambertian polyhedron, rectangle lights pointing down rectangles, and the
-camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
+become the same 352-triangle Lambertian polyhedron, rectangle lights rectangles facing the same
+way, point and spot lights (in rooms without mirrors) Mitsuba's `point` and a hard-edged `spot`,
+and the camera the same pinhole camera. Both images are linear EXR with a box pixel filter. Mitsuba's
 path tracer finds the light through mirrors and glass only by hitting it; ours samples it
 through its mirror images — the two must agree within their noise.
 
@@ -293,17 +294,50 @@ def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
             d[f"light {i}"] = {"type": "ply", "filename": path, "face_normals": True,
                                "bsdf": {"type": "diffuse", "reflectance": rgb([0.0, 0.0, 0.0])},
                                "emitter": {"type": "area", "radiance": rgb(colour / (math.pi * area))}}
-        elif kind == "rectangle" and abs(light["pitch"] + 90.0) < 1e-9:
+        elif kind == "rectangle":
+            # Ours: a rectangle facing `axis`, its width along axis × up (or +x when the axis is
+            # vertical), its height along axis × that (orbifold_render::light::rectangle).
             w, l = light["size"]
+            axis = light_axis(light)
+            right = np.cross(axis, [0.0, 0.0, 1.0])
+            right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0, 0])
+            up = np.cross(axis, right)
             radiance = colour / (math.pi * w * l)
-            to_world = (mi.ScalarTransform4f().translate([at[0], at[1], h])
-                        .scale([0.5 * w, 0.5 * l, 1.0]).rotate([1, 0, 0], 180))
-            d[f"light {i}"] = {"type": "rectangle", "to_world": to_world,
-                               "emitter": {"type": "area", "radiance": {"type": "rgb", "value": radiance.tolist()}}}
+            # Mitsuba's rectangle is [−1, 1]² in its xy-plane, emitting along +z.
+            matrix = np.identity(4)
+            matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = 0.5 * w * right, 0.5 * l * up, axis
+            matrix[:3, 3] = [at[0], at[1], h]
+            d[f"light {i}"] = {"type": "rectangle", "to_world": mi.ScalarTransform4f(matrix.tolist()),
+                               "emitter": {"type": "area", "radiance": rgb(radiance)}}
+        elif kind in ("point", "spot"):
+            if any(name.startswith("mirror_") for name in groups):
+                sys.exit(f"error: lights[{i}]: a {kind} light in a room with mirrors (Mitsuba's "
+                         "point and spot lights never light a surface through a mirror)")
+            if kind == "point":
+                d[f"light {i}"] = {"type": "point", "position": [at[0], at[1], h],
+                                   "intensity": rgb(colour / (4 * math.pi))}
+            else:
+                # Ours is a hard cone of intensity P / (2π(1 − cos θ)); Mitsuba's spot fades
+                # linearly from `beam_width` to `cutoff_angle`: no fade.
+                cone = light["cone"]
+                axis = light_axis(light)
+                eye = [at[0], at[1], h]
+                d[f"light {i}"] = {
+                    "type": "spot", "cutoff_angle": cone, "beam_width": cone * (1 - 1e-9),
+                    "intensity": rgb(colour / (2 * math.pi * (1 - math.cos(math.radians(cone))))),
+                    "to_world": mi.ScalarTransform4f().look_at(
+                        origin=eye, target=[e + a for e, a in zip(eye, axis)],
+                        up=[0, 0, 1] if abs(axis[2]) < 0.999 else [1, 0, 0]),
+                }
         else:
-            sys.exit(f"error: lights[{i}]: only sphere lights and rectangle lights pointing straight "
-                     "down can be compared (Mitsuba's point lights never light through a mirror)")
+            sys.exit(f"error: lights[{i}]: a {kind!r} light cannot be compared")
     return d
+
+
+def light_axis(light):
+    """Where a spot or rectangle light points: yaw from the model's +x axis, pitch up."""
+    yaw, pitch = math.radians(light["yaw"]), math.radians(light["pitch"])
+    return np.array([math.cos(pitch) * math.cos(yaw), math.cos(pitch) * math.sin(yaw), math.sin(pitch)])
 
 
 def luminance(img):
