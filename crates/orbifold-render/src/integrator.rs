@@ -237,9 +237,38 @@ struct Spread {
     widths: (f64, f64),
     /// The ray's direction of travel (local frame).
     travel: DVec3,
+    /// The widest cells of the radiance cache that the surface may read ([`Spread::cache_width`]).
+    cache_width: f64,
 }
 
 impl Spread {
+    /// The footprint of `pixel` carried `s` along a ray of elevation cosine `cos_elevation` and
+    /// direction `travel` there.
+    fn new(space: Space, pixel: &Footprint, s: f64, cos_elevation: f64, travel: DVec3) -> Spread {
+        let widths = pixel.widths(space, s, cos_elevation);
+        Spread {
+            widths,
+            travel,
+            cache_width: Spread::cache_width(pixel, widths),
+        }
+    }
+
+    /// How wide the radiance cache's cells read at the surface may be: the footprint's narrower
+    /// width, times the square root of how much wider than in flat space curvature has made it
+    /// across the ray (S_κ(σ)/(s cos α), the ratio of the two widths for a square pixel). In H²
+    /// that ratio grows like e^σ/σ, and the narrower width alone kept the first rings of far
+    /// images off the cache; the root blurs their lighting by at most that many pixel heights
+    /// up and down and by less than a pixel across. In E² and S² it is the narrower width.
+    fn cache_width(pixel: &Footprint, (across, up): (f64, f64)) -> f64 {
+        let narrow = across.min(up);
+        let stretch = (across * pixel.up) / (up * pixel.across);
+        if stretch > 1.0 {
+            narrow * stretch.sqrt()
+        } else {
+            narrow
+        }
+    }
+
     /// The footprint's half-axes projected along the ray onto the plane with normal `n`, each
     /// at most `MAX_FOOTPRINT` long (beyond, every pattern is averaged out anyway).
     fn axes(&self, n: DVec3) -> [DVec3; 2] {
@@ -1365,10 +1394,8 @@ impl Integrator {
                 add(&mut radiance, scale(mul(beta, emitted), weight));
                 break;
             }
-            let spread = carried.map(|f| Spread {
-                widths: f.widths(space, march.length, march.ray.cos_elevation),
-                travel,
-            });
+            let spread = carried
+                .map(|f| Spread::new(space, f, march.length, march.ray.cos_elevation, travel));
             let Some((geometric, normal, bsdf)) = self.surface(&near, &frame, spread.as_ref())
             else {
                 break;
@@ -1403,7 +1430,7 @@ impl Integrator {
                 // camera's first surface, a share of the distance after a diffuse bounce.
                 let depth_left = self.settings.max_depth - depth;
                 let width = match &spread {
-                    Some(s) if depth == 0 => s.widths.0.min(s.widths.1),
+                    Some(s) if depth == 0 => s.cache_width,
                     _ if previous_diffuse && depth_left >= radiance_cache::DEPTH_LEFT_FOR_READS => {
                         radiance_cache::DIFFUSE_SPREAD * march.length
                     }
@@ -1636,6 +1663,38 @@ mod tests {
     }
 
     #[test]
+    fn cache_reads_widen_only_with_the_curvature_across_the_ray() {
+        // In E² a footprint's widths grow alike: the cache width is the narrower one, whatever
+        // the pixel's shape. In H² the width across outgrows the height by S(σ)/(s cos α); the
+        // cache width is then the geometric mean of the widths for a square pixel. In S² the
+        // footprint narrows across: the narrower width again.
+        let travel = DVec3::X;
+        let square = Footprint {
+            across: 1e-3,
+            up: 1e-3,
+        };
+        let wide = Footprint {
+            across: 2e-3,
+            up: 1e-3,
+        };
+        let e2 = Space::new(orbifold::Geometry::Euclidean);
+        for pixel in [square, wide] {
+            let spread = Spread::new(e2, &pixel, 5.0, 1.0, travel);
+            assert!((spread.cache_width - spread.widths.0.min(spread.widths.1)).abs() < 1e-15);
+        }
+        let h2 = Space::new(orbifold::Geometry::Hyperbolic);
+        for s in [0.5, 3.0, 8.0] {
+            let spread = Spread::new(h2, &square, s, 1.0, travel);
+            let (across, up) = spread.widths;
+            assert!(across > up);
+            assert!((spread.cache_width - (across * up).sqrt()).abs() < 1e-12 * across);
+        }
+        let s2 = Space::new(orbifold::Geometry::Spherical);
+        let spread = Spread::new(s2, &square, 2.0, 1.0, travel);
+        assert_eq!(spread.cache_width, spread.widths.0.min(spread.widths.1));
+    }
+
+    #[test]
     fn a_footprint_on_the_floor_stretches_along_a_grazing_ray() {
         // A ray 10° below the horizon along +x meets the floor: the footprint's height becomes
         // height / sin 10° along x, its width stays across (y).
@@ -1643,6 +1702,7 @@ mod tests {
         let spread = Spread {
             widths: (0.02, 0.01),
             travel,
+            cache_width: 0.01,
         };
         let [a, b] = spread.axes(DVec3::Z);
         assert!((a.length() - 0.01).abs() < 1e-12 && a.x.abs() < 1e-12 && a.z.abs() < 1e-12);

@@ -16,11 +16,15 @@
 //! of the paths' estimates of *reflected radiance per unit albedo* (E/π for a Lambertian
 //! surface, which does not depend on the texture). There are [`LEVELS`] grids, each cell twice
 //! the size of the one below, from [`FINEST_CELL`] up. A camera path's first diffuse surface
-//! uses the cache only where its pixel's footprint is at least as wide as a cell, so the cache's
-//! blur stays below what the pixel averages anyway (a prefiltered far field, as with the
-//! footprint's texture filtering), and the lookup point is jittered within a cell so that the
-//! grid shows as fine noise, not as blocks (Binder et al. 2018, "Fast path space filtering by
-//! jittered spatial hashing").
+//! uses the cache only where its pixel's footprint is at least as wide as a cell — its width in
+//! the mean, the geometric mean of its widths across and up — so the cache's blur stays about
+//! what the pixel averages anyway (a prefiltered far field, as with the footprint's texture
+//! filtering), and the lookup point is jittered within a cell so that the grid shows as fine
+//! noise, not as blocks (Binder et al. 2018, "Fast path space filtering by jittered spatial
+//! hashing"). The geometric mean matters in H², where a far footprint is many times wider
+//! across the ray (∝ sinh s) than up it (∝ s): the narrower width would keep the first rings of
+//! far images off the cache, while the mean blurs their lighting by at most √(across/up) pixel
+//! heights up and down, less than a pixel across (measured in docs/benchmarks.md).
 //!
 //! A render fills the cache from its own paths: after each round the estimates of the paths
 //! that traced their first diffuse surface in full are added in pixel order (so an image is
