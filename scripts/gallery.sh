@@ -17,7 +17,7 @@
 # half picture. Prints one line per scene: seconds, samples per pixel reached, and the relative
 # noise (the mean over pixels of the standard error of a pixel's luminance over that luminance +
 # 0.01, before denoising), then the total time and the gallery's size. Exits 1 if a scene failed.
-# The whole gallery (44 scenes) takes about 6 minutes on a 2-vCPU machine (see docs/gallery.md).
+# The whole gallery (49 scenes) takes about 6 minutes on a 2-vCPU machine (see docs/gallery.md).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

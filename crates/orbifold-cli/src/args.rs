@@ -196,7 +196,8 @@ pub struct ImageArgs {
     #[arg(long, value_name = "RADIANCE", allow_hyphen_values = true)]
     pub glow: Option<f64>,
     /// Light as if space were flat: the room's model picture with straight rays (the seed's
-    /// Fig. 8.1a), to compare with the true geodesics.
+    /// Fig. 8.1a), to compare with the true geodesics (also `straight_rays = true` in the
+    /// scene's `[render]` table).
     #[arg(long)]
     pub straight_rays: bool,
     /// No pixel footprint: count the light's mirror images smaller than a pixel by ray hits

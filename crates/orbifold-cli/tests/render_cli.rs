@@ -192,6 +192,33 @@ fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
         .stderr(predicate::str::contains("cannot be used with"));
 }
 
+#[test]
+fn a_scene_s_render_table_can_ask_for_straight_rays() {
+    // fig-8.1-a-straight.toml is fig-1.2-444.toml with `straight_rays = true` in `[render]`.
+    let picture = |scene: &str, name: &str, flags: &[&str]| {
+        let out = temp(name);
+        let path = scenes().join(scene);
+        let mut args = vec![
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "24x16",
+            "--spp",
+            "2",
+            "--no-denoise",
+        ];
+        args.extend_from_slice(flags);
+        render(&args);
+        std::fs::read(&out).unwrap()
+    };
+    let from_the_table = picture("fig-8.1-a-straight.toml", "table.png", &[]);
+    let from_the_flag = picture("fig-1.2-444.toml", "flag.png", &["--straight-rays"]);
+    let geodesics = picture("fig-1.2-444.toml", "geodesics.png", &[]);
+    assert_eq!(from_the_table, from_the_flag);
+    assert_ne!(from_the_table, geodesics);
+}
+
 /// Renders the default room twice with the same seed (24×16, `spp` samples, raw), the second
 /// time with `flag`, and checks that the two images differ.
 fn assert_flag_changes_the_image(flag: &str, spp: u32) {

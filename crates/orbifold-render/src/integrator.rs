@@ -83,6 +83,30 @@ impl Default for Settings {
     }
 }
 
+impl Settings {
+    /// The settings a scene's `[render]` table asks for: its most bounces and whether light
+    /// runs in straight lines; the rest as by default.
+    ///
+    /// ```
+    /// use orbifold_render::integrator::Settings;
+    /// use orbifold_scene::Scene;
+    ///
+    /// let mut scene = Scene::default();
+    /// scene.render.max_depth = 3;
+    /// scene.render.straight_rays = true;
+    /// let settings = Settings::of_scene(&scene);
+    /// assert_eq!((settings.max_depth, settings.straight_rays), (3, true));
+    /// assert!(settings.nee);
+    /// ```
+    pub fn of_scene(scene: &Scene) -> Settings {
+        Settings {
+            max_depth: scene.render.max_depth,
+            straight_rays: scene.render.straight_rays,
+            ..Settings::default()
+        }
+    }
+}
+
 /// A texture: what a diffuse surface's albedo is at a point.
 #[derive(Clone, Debug)]
 enum Texture {

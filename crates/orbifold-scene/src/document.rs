@@ -500,6 +500,9 @@ pub struct Render {
     pub samples: u32,
     /// Maximum path depth (bounces).
     pub max_depth: u32,
+    /// Light as if space were flat: straight rays through the room's model picture instead of
+    /// the geodesics (the seed's Fig. 8.1a; `orbifold render --straight-rays`). Off by default.
+    pub straight_rays: bool,
 }
 
 impl Default for Render {
@@ -509,6 +512,7 @@ impl Default for Render {
             height: 480,
             samples: 64,
             max_depth: 32,
+            straight_rays: false,
         }
     }
 }

@@ -137,7 +137,7 @@ fn run(
             s.done = true;
         }
     };
-    let integrator = match Integrator::from_scene(scene, base, Settings::default()) {
+    let integrator = match Integrator::from_scene(scene, base, Settings::of_scene(scene)) {
         Ok(i) => i,
         Err(e) => return finish(Some(e)),
     };

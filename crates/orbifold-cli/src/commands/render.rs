@@ -89,11 +89,12 @@ pub(crate) fn settings_and_options(
     scene: &Scene,
     extension: &str,
 ) -> (Settings, RenderOptions) {
+    let of_scene = Settings::of_scene(scene);
     let settings = Settings {
-        max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
+        max_depth: args.max_depth.unwrap_or(of_scene.max_depth),
         nee: !args.no_nee,
         glow: [args.glow.unwrap_or(0.0); 3],
-        straight_rays: args.straight_rays,
+        straight_rays: args.straight_rays || of_scene.straight_rays,
         pixel_footprint: !args.no_footprint,
         radiance_cache: !args.no_radiance_cache,
     };
