@@ -161,3 +161,33 @@ fn bad_requests_fail_cleanly_and_write_nothing() {
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "nothing written");
     std::fs::remove_dir_all(d).unwrap();
 }
+
+#[test]
+fn texture_paths_stay_relative_to_the_scene_file() {
+    // The peer scene's textures sit beside it; the test runs in another folder.
+    let d = dir("textures");
+    let file = d.join("room.obj");
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/peer/textures-2222.toml");
+    orbifold()
+        .arg("room")
+        .arg(&scene)
+        .args(["--height", "0.9", "-o"])
+        .arg(&file)
+        .assert()
+        .success();
+    assert!(file.is_file());
+    // An option that breaks the scene is named as the key it sets.
+    orbifold()
+        .arg("room")
+        .arg(&scene)
+        .args(["--height=-1", "-o"])
+        .arg(d.join("bad.obj"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "room.height: the room's height must be",
+        ));
+    assert!(!d.join("bad.obj").exists());
+    std::fs::remove_dir_all(d).unwrap();
+}

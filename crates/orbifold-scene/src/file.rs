@@ -89,6 +89,33 @@ impl Scene {
             .collect())
     }
 
+    /// Every problem with a scene built or changed in memory (keys, no positions); `base` is the
+    /// folder that mesh and texture paths are relative to (the scene file's).
+    ///
+    /// ```
+    /// use orbifold_scene::Scene;
+    /// let mut scene = Scene::default();
+    /// assert!(scene.check(None).is_ok());
+    /// scene.room.height = -1.0;
+    /// let errors = scene.check(None).unwrap_err();
+    /// assert_eq!(errors[0].key.as_deref(), Some("room.height"));
+    /// ```
+    pub fn check(&self, base: Option<&Path>) -> Result<(), Vec<SceneError>> {
+        let problems = validate(self, base);
+        if problems.is_empty() {
+            return Ok(());
+        }
+        Err(problems
+            .into_iter()
+            .map(|(key, message)| SceneError {
+                file: None,
+                position: None,
+                key: Some(key),
+                message,
+            })
+            .collect())
+    }
+
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene, Vec<SceneError>> {
         let text = std::fs::read_to_string(path).map_err(|e| {

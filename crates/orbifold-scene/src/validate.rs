@@ -78,7 +78,7 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
     if let Some(d) = room.cusp_distance {
         positive(&mut p, "room.cusp_distance", d);
     }
-    walls(&mut p, scene, layout.as_ref());
+    walls(&mut p, scene, layout.as_ref(), base);
     let inside = |at: [f64; 2]| layout.as_ref().is_none_or(|l| is_inside(l, at));
     for (i, o) in scene.objects.iter().enumerate() {
         let key = format!("objects[{i}]");
@@ -211,7 +211,7 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
     p
 }
 
-fn walls(p: &mut Problems, scene: &Scene, layout: Option<&Layout>) {
+fn walls(p: &mut Problems, scene: &Scene, layout: Option<&Layout>, base: Option<&Path>) {
     let count = layout.map(|l| l.edges.len());
     let mut seen = std::collections::HashSet::new();
     for (i, w) in scene.walls.iter().enumerate() {
@@ -235,7 +235,7 @@ fn walls(p: &mut Problems, scene: &Scene, layout: Option<&Layout>) {
             ));
         }
         if let Some(m) = &w.material {
-            room_material(p, &format!("{key}.material"), m, None);
+            room_material(p, &format!("{key}.material"), m, base);
         }
         for (j, m) in w.mirrors.iter().enumerate() {
             let key = format!("{key}.mirrors[{j}]");

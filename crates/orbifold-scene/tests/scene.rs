@@ -178,6 +178,23 @@ fn load_and_save_through_files() {
         Scene::load(&path).is_ok(),
         "mesh paths are relative to the scene file"
     );
+    // Texture files too, on the floor, a wall and an object alike (the process's working
+    // directory is not the scene's folder).
+    std::fs::write(dir.join("tiles.png"), "not read by validation").unwrap();
+    let texture = "{ kind = \"texture\", path = \"tiles.png\", scale = 0.5 }";
+    std::fs::write(
+        &path,
+        format!(
+            "[room]\nfloor = {texture}\n[[walls]]\nindex = 1\nmaterial = {texture}\n\
+             [[objects]]\nmaterial = {texture}\n"
+        ),
+    )
+    .unwrap();
+    assert!(
+        Scene::load(&path).is_ok(),
+        "texture paths are relative to the scene file: {:?}",
+        Scene::load(&path).err()
+    );
     let missing = Scene::load(&dir.join("none.toml")).unwrap_err();
     assert!(missing[0].to_string().contains("cannot read"));
     std::fs::write(&path, "[room]\nheight = -1\n").unwrap();

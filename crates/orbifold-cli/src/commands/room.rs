@@ -33,7 +33,8 @@ pub fn run(args: &RoomArgs) -> Result<(), CliError> {
     }
     let (mut scene, base) = load(&args.input)?;
     apply_overrides(&mut scene, args);
-    if let Err(errors) = Scene::from_toml(&scene.to_toml(), base.as_deref()) {
+    // The options may have made the scene invalid (a negative --height, say).
+    if let Err(errors) = scene.check(base.as_deref()) {
         let list: Vec<String> = errors.iter().map(ToString::to_string).collect();
         return Err(CliError::Input(list.join("\nerror: ")));
     }
