@@ -174,22 +174,66 @@ def scene_material(scene, group):
     sys.exit(f"error: the export has a group {group!r} that the scene does not name")
 
 
-def checker_uv(scene, where, material, positions):
-    """Mitsuba's checkerboard is color0 where ⌊2u⌋ + ⌊2v⌋ is even: u, v = p / (2 size) puts
-    its squares on ours, whose parity is ⌊x/size⌋ + ⌊y/size⌋ + ⌊h/size⌋ in model coordinates or
-    in the logarithm map at the room's centre (in the Euclidean plane: the offset from it)."""
-    if where not in ("room.floor", "room.ceiling"):
-        sys.exit(f"error: {where}: checkerboards are compared on the floor and ceiling only")
-    size = material["size"]
+def wall_frames(scene):
+    """Each wall's start corner and unit direction in export coordinates (from `orbifold layout`
+    of the scene's polygon): textures on walls are laid out by (length along the wall from its
+    corner i, height)."""
+    o = scene["orbifold"]
+    cmd = [BINARY, "layout", o["signature"], "--shape", o.get("shape", "default"),
+           "--at", ",".join(str(v) for v in o.get("at", [0.0, 0.0])),
+           "--angle", str(o.get("angle", 0.0)), "--json"]
+    if o.get("parameters"):
+        cmd[3:3] = ["--params", ",".join(str(v) for v in o["parameters"])]
+    layout = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+    corner = [np.array([v["x"], v["y"]]) * EXPORT_SCALE for v in layout["vertices"]]
+    frames = []
+    for e in layout["edges"]:
+        a, b = corner[e["from"]], corner[e["to"]]
+        frames.append((a, (b - a) / np.linalg.norm(b - a)))
+    return frames
+
+
+def texture_coordinates(scene, where, group, material, positions):
+    """Our texture coordinates (orbifold_render::integrator, `Integrator::surface`) at the exported
+    vertices, in intrinsic units: on a wall (length along it, height, 0); elsewhere (x, y, height)
+    in the model, or in the logarithm map at the room's centre (in the Euclidean plane: the offset
+    from it, at true size). Both are affine in the exported position, so Mitsuba's interpolation
+    across a triangle is exact."""
+    if group.startswith("wall_"):
+        start, direction = wall_frames(scene)[int(group[5:])]
+        along = (positions[:, :2] - start) @ direction
+        return np.stack([along, positions[:, 2], np.zeros(len(positions))], axis=1)
     if material.get("coordinates", "model") == "intrinsic":
         if scene["orbifold"].get("angle", 0.0) != 0.0:
-            sys.exit(f"error: {where}: an intrinsic checkerboard in a turned room (orbifold.angle)")
+            sys.exit(f"error: {where}: intrinsic coordinates in a turned room (orbifold.angle)")
         centre = np.array(scene["orbifold"].get("at", [0.0, 0.0])) * EXPORT_SCALE
-        p = positions[:, :2] - centre
+        xy = positions[:, :2] - centre
     else:
-        p = positions[:, :2] / EXPORT_SCALE
+        xy = positions[:, :2] / EXPORT_SCALE
+    return np.concatenate([xy, positions[:, 2:3]], axis=1)
+
+
+def checker_uv(scene, where, group, material, positions):
+    """Mitsuba's checkerboard is color0 where ⌊2u⌋ + ⌊2v⌋ is even; ours takes colour
+    ⌊p₀/size⌋ + ⌊p₁/size⌋ + ⌊p₂/size⌋ mod 2 of the texture coordinates p. On the floor, the
+    ceiling and the walls the coordinate that Mitsuba's two lack is constant (the height; 0 on a
+    wall), so u, v = p / (2 size) with the colours swapped when that constant's square is odd."""
+    if not (where in ("room.floor", "room.ceiling") or group.startswith("wall_")):
+        sys.exit(f"error: {where}: checkerboards are compared on the floor, ceiling and walls "
+                 "only (on an object ours is a solid 3D checker)")
+    size = material["size"]
+    p = texture_coordinates(scene, where, group, material, positions)
+    if group.startswith("wall_"):
+        return p[:, :2] / (2 * size), False
     flipped = math.floor(positions[0, 2] / size) % 2 == 1
-    return p / (2 * size), flipped
+    return p[:, :2] / (2 * size), flipped
+
+
+def image_uv(scene, where, group, material, positions):
+    """Ours looks up texel (p₀/scale, p₁/scale) of the texture coordinates p with v upwards (the
+    image's bottom row at v = 0), repeated, nearest texel; Mitsuba's bitmap has v downwards."""
+    p = texture_coordinates(scene, where, group, material, positions) / material["scale"]
+    return np.stack([p[:, 0], -p[:, 1]], axis=1)
 
 
 def check_materials(scene):
@@ -200,8 +244,9 @@ def check_materials(scene):
     found += [(f"walls[{i}].material", w.get("material")) for i, w in enumerate(scene.get("walls", []))]
     found += [(f"objects[{i}].material", o["material"]) for i, o in enumerate(scene.get("objects", []))]
     for where, material in found:
-        if material is not None and material["kind"] not in ("color", "checker", "glass", "metal", "plastic"):
-            sys.exit(f"error: {where}: marble and image textures cannot be compared "
+        if material is not None and material["kind"] not in ("color", "checker", "texture", "glass",
+                                                             "metal", "plastic"):
+            sys.exit(f"error: {where}: procedural marble cannot be compared "
                      f"(found {material['kind']!r})")
 
 
@@ -221,8 +266,9 @@ def rgb(value):
     return {"type": "rgb", "value": list(value)}
 
 
-def mitsuba_bsdf(scene, group, mtl, positions):
-    """The Mitsuba BSDF of an exported group, and its texture coordinates if it needs them."""
+def mitsuba_bsdf(scene, scene_dir, group, mtl, positions):
+    """The Mitsuba BSDF of an exported group, and its texture coordinates if it needs them
+    (`scene_dir`: where the scene's relative texture paths start)."""
     where, material = scene_material(scene, group)
     if material is None:
         return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
@@ -248,14 +294,21 @@ def mitsuba_bsdf(scene, group, mtl, positions):
         return {"type": "dielectric", "int_ior": material["ior"], "ext_ior": 1.0,
                 "specular_transmittance": rgb(material["tint"])}, None
     if kind == "checker":
-        uv, flipped = checker_uv(scene, where, material, positions)
+        uv, flipped = checker_uv(scene, where, group, material, positions)
         a, b = material["colors"][::-1] if flipped else material["colors"]
         texture = {"type": "checkerboard", "color0": rgb(a), "color1": rgb(b)}
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, uv
+    if kind == "texture":
+        # sRGB 8-bit texels decoded to linear, as ours does (orbifold_render::texture).
+        path = os.path.join(scene_dir, material["path"])
+        texture = {"type": "bitmap", "filename": path, "filter_type": "nearest",
+                   "wrap_mode": "repeat", "raw": False}
+        uv = image_uv(scene, where, group, material, positions)
         return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, uv
     return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(material["color"])}}, None
 
 
-def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
+def mitsuba_scene(mi, scene, scene_dir, groups, materials, width, height, tmp):
     camera = scene["camera"]
     at = np.array(camera["at"]) * EXPORT_SCALE
     yaw, pitch = math.radians(camera["yaw"]), math.radians(camera["pitch"])
@@ -280,7 +333,7 @@ def mitsuba_scene(mi, scene, groups, materials, width, height, tmp):
     }
     for name, (material, positions, normals, faces) in groups.items():
         path = os.path.join(tmp, f"{name}.ply")
-        bsdf, uv = mitsuba_bsdf(scene, name, materials[material], positions)
+        bsdf, uv = mitsuba_bsdf(scene, scene_dir, name, materials[material], positions)
         write_ply(path, positions, normals, faces, uv)
         d[name.replace(".", "_")] = {"type": "ply", "filename": path, "bsdf": bsdf}
     for i, light in enumerate(scene.get("lights", [])):
@@ -387,7 +440,8 @@ def main():
                             *shlex.split(args.orbifold_args)], check=True, capture_output=True)
             timing["orbifold"] += time.perf_counter() - start
             ours.append(np.array(mi.Bitmap(out), dtype=np.float64)[..., :3])
-        d = mitsuba_scene(mi, scene, groups, materials, width, height, tmp)
+        d = mitsuba_scene(mi, scene, os.path.dirname(os.path.abspath(args.scene)), groups,
+                         materials, width, height, tmp)
         mscene = mi.load_dict(d)
         for seed in range(args.seeds):
             start = time.perf_counter()
