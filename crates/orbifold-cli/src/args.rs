@@ -153,8 +153,10 @@ room of that orbifold (every wall a mirror, a figure in the middle, a light, the
 quarters of the way to the -x wall). PNG and JPEG images are denoised (guided by what each pixel
 saw first); EXR keeps the raw estimate. docs/rendering.md explains the light transport.
 
---json prints {\"output\", \"width\", \"height\", \"samples\", \"seconds\", \"stopped_early\",
-\"relative_noise\", \"dropped_samples\", \"exposure\", \"denoised\"}.";
+--json prints {\"output\", \"width\", \"height\", \"samples\", \"paths\", \"rays\", \"seconds\",
+\"stopped_early\", \"relative_noise\", \"dropped_samples\", \"exposure\", \"denoised\"} (paths:
+camera paths traced; rays: their geodesic stretches between mirrors, hit searches and shadow
+tests alike).";
 
 /// How an image is rendered: what `render` and `animate` share.
 #[derive(Debug, Args)]

@@ -43,6 +43,9 @@ fn renders_the_default_scene_to_png() {
     assert_eq!(summary["width"], 24);
     assert_eq!(summary["samples"], 2);
     assert_eq!(summary["dropped_samples"], 0);
+    // Every pixel's two paths; each traces at least its camera ray, and the mirrors more.
+    assert_eq!(summary["paths"], 24 * 16 * 2);
+    assert!(summary["rays"].as_u64().unwrap() > 2 * 24 * 16 * 2);
     let image = image::open(&png).unwrap();
     assert_eq!((image.width(), image.height()), (24, 16));
     // Not a black picture: the figure, the floor and the light's images are lit.

@@ -24,7 +24,8 @@
 //! of about one level is below what the eye sees in a smooth area). It is given for the raw
 //! images and for the denoised ones (`orbifold_render::denoise`; this counts the filter's
 //! remaining noise, not its bias). Also: samples per pixel, the renderer's own relative-noise
-//! estimate, and million paths per second.
+//! estimate, million paths per second, and million rays per second (a path's geodesic
+//! stretches between mirrors: nearest-hit searches and shadow tests).
 
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
@@ -212,9 +213,9 @@ fn main() {
     );
     println!();
     println!(
-        "| room | geometry | mean spp | relative noise | display noise raw: RMS, median | denoised: RMS, median, 99th percentile | denoise s | M paths/s |"
+        "| room | geometry | mean spp | relative noise | display noise raw: RMS, median | denoised: RMS, median, 99th percentile | denoise s | M paths/s | M rays/s |"
     );
-    println!("|---|---|---:|---:|---:|---:|---:|---:|");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {
         if args.only.as_deref().is_some_and(|o| o != signature) {
             continue;
@@ -278,8 +279,9 @@ fn main() {
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);
         let paths = a.paths as f64 / a.elapsed.as_secs_f64();
+        let rays = a.rays as f64 / a.elapsed.as_secs_f64();
         println!(
-            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1}, {:.1} | {:.2} | {:.3} |",
+            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1}, {:.1} | {:.2} | {:.3} | {:.2} |",
             integrator.space().geometry(),
             a.paths as f64 / f64::from(args.size).powi(2),
             a.film.relative_noise(),
@@ -289,7 +291,8 @@ fn main() {
             clean.1,
             clean.2,
             denoise_seconds,
-            paths / 1e6
+            paths / 1e6,
+            rays / 1e6
         );
         {
             let mut spp: Vec<u64> = (0..args.size * args.size)

@@ -550,6 +550,19 @@ pub struct PathSample {
     /// [`RadianceCache`] (only from [`Integrator::sample_pixel_cached`], when that surface was
     /// traced in full).
     pub deposit: Option<Deposit>,
+    /// The rays the path traced: geodesic stretches between mirrors, each a search for the
+    /// nearest hit or a shadow test (what "rays per second" counts).
+    pub rays: u32,
+}
+
+thread_local! {
+    /// Rays traced on this thread so far ([`Integrator::march`]): a path runs on one thread, so
+    /// the difference before and after it is its count, at the cost of a thread-local add.
+    static RAYS: std::cell::Cell<u32> = const { std::cell::Cell::new(0) };
+}
+
+fn rays_so_far() -> u32 {
+    RAYS.with(std::cell::Cell::get)
 }
 
 /// The camera path's first diffuse surface, while its estimate there is being traced.
@@ -1010,6 +1023,7 @@ impl Integrator {
             glimpsed_end: None,
         };
         for _ in 0..=MAX_MIRROR_BOUNCES {
+            RAYS.with(|r| r.set(r.get().wrapping_add(1)));
             let remaining = length - march.length;
             let near = if visibility_only {
                 match self.unblocked_exit(&march.ray, skip, remaining) {
@@ -1365,6 +1379,7 @@ impl Integrator {
         cache: Option<&RadianceCache>,
         sampler: &mut Sampler,
     ) -> PathSample {
+        let rays_before = rays_so_far();
         let space = self.space();
         let footprint =
             footprint.filter(|_| self.settings.pixel_footprint && !self.settings.straight_rays);
@@ -1521,6 +1536,7 @@ impl Integrator {
         let deposit = pending.map(|p| p.deposit(radiance));
         PathSample {
             deposit,
+            rays: rays_so_far().wrapping_sub(rays_before),
             radiance: if radiance.iter().all(|v| v.is_finite()) {
                 radiance
             } else {

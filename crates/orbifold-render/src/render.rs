@@ -109,6 +109,9 @@ pub struct Rendered {
     pub samples: u32,
     /// Samples taken in all (camera paths traced).
     pub paths: u64,
+    /// Rays traced in all: the paths' geodesic stretches between mirrors, nearest-hit searches
+    /// and shadow tests alike ([`PathSample::rays`]).
+    pub rays: u64,
     /// Wall-clock time.
     pub elapsed: Duration,
     /// Whether it stopped before taking every sample (time limit, noise target or cancellation).
@@ -211,6 +214,7 @@ pub struct Progressive<'a> {
     /// Samples taken per pixel: the index of its next sample in its stratified sequence.
     taken: Vec<u32>,
     total: u64,
+    rays: u64,
     rounds: u32,
     /// The denoiser's variance reduction per pixel, when adaptive sampling aims at a denoised
     /// image (refreshed at rounds 4, 8, 16, …).
@@ -236,6 +240,7 @@ impl<'a> Progressive<'a> {
             guides: Guides::new(width, height),
             taken: vec![0; width as usize * height as usize],
             total: 0,
+            rays: 0,
             rounds: 0,
             reduction: None,
             cache: integrator.uses_radiance_cache().then(RadianceCache::new),
@@ -318,6 +323,7 @@ impl<'a> Progressive<'a> {
             cache.add_all(&deposits);
         }
         self.total += results.len() as u64;
+        self.rays += results.iter().map(|(_, v)| u64::from(v.rays)).sum::<u64>();
         self.rounds += 1;
     }
 
@@ -329,6 +335,11 @@ impl<'a> Progressive<'a> {
     /// Samples taken in all.
     pub fn paths(&self) -> u64 {
         self.total
+    }
+
+    /// Rays traced in all ([`Rendered::rays`]).
+    pub fn rays(&self) -> u64 {
+        self.rays
     }
 
     /// Samples per pixel so far (the mean, rounded down).
@@ -352,6 +363,7 @@ impl<'a> Progressive<'a> {
         Rendered {
             samples: self.samples(),
             paths: self.total,
+            rays: self.rays,
             elapsed,
             stopped_early: self.total < budget,
             film: self.film,

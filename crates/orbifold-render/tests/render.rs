@@ -554,3 +554,37 @@ fn spot_and_rectangle_lights_shine_where_they_point() {
         }
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// A path's ray count is its stretches between mirrors: with no bounce off a surface, no
+    /// light sampling and perfect mirrors (so no roulette), it is the tracer's own count of
+    /// hits along the ray (every mirror, then the surface it ends on), in every geometry.
+    #[test]
+    fn a_path_counts_one_ray_per_stretch_between_mirrors(
+        g in 0usize..4, x in -0.2f64..0.2, y in -0.2f64..0.2, h in 0.1f64..0.9,
+        yaw in 0.0f64..std::f64::consts::TAU, pitch in -0.4f64..0.4,
+    ) {
+        use num_complex::Complex64;
+        use orbifold_render::geodesic::Ray;
+        use orbifold_render::integrator::Integrator;
+        use orbifold_render::sampler::Sampler;
+        use orbifold_render::tracer::Tracer;
+        let signature = ["*235", "*2222", "*333", "*2223"][g];
+        let mut scene = scene(signature, LightKind::Sphere);
+        scene.lights.clear();
+        for mirror in scene.walls.iter_mut().flat_map(|w| w.mirrors.iter_mut()) {
+            mirror.reflectance = [1.0; 3];
+        }
+        let settings = Settings { max_depth: 0, nee: false, ..Settings::default() };
+        let integrator = Integrator::from_scene(&scene, None, settings).unwrap();
+        let tracer = Tracer::from_scene(&scene, None).unwrap();
+        let space = integrator.space();
+        let centre = integrator.centre();
+        let ray = Ray::from_model(space, centre + Complex64::new(x, y) * 0.5, h, yaw, pitch);
+        let path = tracer.follow(&ray, orbifold_render::integrator::MAX_MIRROR_BOUNCES);
+        proptest::prop_assume!(path.hits.len() < orbifold_render::integrator::MAX_MIRROR_BOUNCES);
+        let sample = integrator.sample(&ray, &mut Sampler::new(1, 2, 3));
+        proptest::prop_assert_eq!(sample.rays as usize, path.hits.len());
+    }
+}

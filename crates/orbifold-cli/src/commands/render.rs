@@ -25,6 +25,8 @@ struct Summary {
     width: u32,
     height: u32,
     samples: u32,
+    paths: u64,
+    rays: u64,
     seconds: f64,
     stopped_early: bool,
     relative_noise: f64,
@@ -196,6 +198,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         width,
         height,
         samples: rendered.samples,
+        paths: rendered.paths,
+        rays: rendered.rays,
         seconds: rendered.elapsed.as_secs_f64(),
         stopped_early: rendered.stopped_early,
         relative_noise: rendered.film.relative_noise(),
@@ -205,7 +209,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     output::summary(args.json, &summary, || {
         format!(
-            "wrote {} ({}x{}, {} spp{} in {:.1} s; relative noise {:.4}{})",
+            "wrote {} ({}x{}, {} spp{} in {:.1} s, {:.2} M rays/s; relative noise {:.4}{})",
             summary.output,
             width,
             height,
@@ -216,6 +220,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 ""
             },
             summary.seconds,
+            summary.rays as f64 / summary.seconds.max(1e-9) / 1e6,
             summary.relative_noise,
             if denoised { " before denoising" } else { "" }
         )
