@@ -4,8 +4,8 @@
 A peer-renderer check of the light transport: the room is exported with `orbifold room` (at
 its true size: export coordinates are twice the model's, docs/room.md) and read as the renderer
 reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
-meshes with the exported normals: colours and checkerboards (floor and ceiling) become
-`diffuse`, mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
+meshes with the exported normals: colours, checkerboards (floor, ceiling and walls) and image
+textures become `diffuse` (over our texture coordinates, docs/scene-format.md), mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
 `roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
 `nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
 become the same 352-triangle Lambertian polyhedron, rectangle lights rectangles facing the same
