@@ -336,8 +336,11 @@ impl Studio {
             );
             let running = self.render.as_ref().is_some_and(|r| !r.is_done());
             if !running && ui.button("Render").clicked() {
+                // What the 3D view shows: with its straight rays on, the render's rays too.
+                let mut scene = self.document.scene().clone();
+                scene.render.straight_rays |= self.view.straight;
                 self.render = Some(RenderJob::start(
-                    self.document.scene(),
+                    &scene,
                     self.document.base(),
                     &self.view.camera,
                     self.render_size,
@@ -357,7 +360,7 @@ impl Studio {
             }
         });
         let Some(job) = &self.render else {
-            ui.label("Renders the 3D view's camera along the true geodesics, with light through the mirrors.");
+            ui.label("Renders the 3D view's camera along the true geodesics, with light through the mirrors (straight rays when the 3D view or the scene's render settings ask for them).");
             return;
         };
         if let Some(e) = job.error() {
