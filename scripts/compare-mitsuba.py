@@ -59,8 +59,9 @@ def parse_args():
 
 
 def read_obj(path):
-    """Groups of an OBJ written by `orbifold room`: name -> (material, positions, normals, faces)."""
-    v, vn, groups, current = [], [], {}, None
+    """Groups of an OBJ written by `orbifold room`: name -> (material, positions, normals, faces,
+    texture coordinates or None)."""
+    v, vn, vt, groups, current = [], [], [], {}, None
     for line in open(path):
         parts = line.split()
         if not parts:
@@ -69,23 +70,42 @@ def read_obj(path):
             v.append([float(x) for x in parts[1:4]])
         elif parts[0] == "vn":
             vn.append([float(x) for x in parts[1:4]])
+        elif parts[0] == "vt":
+            vt.append([float(x) for x in parts[1:3]])
         elif parts[0] == "o":
             current = groups.setdefault(parts[1], {"material": None, "faces": []})
         elif parts[0] == "usemtl":
             current["material"] = parts[1]
         elif parts[0] == "f":
-            current["faces"].append([tuple(int(i) - 1 for i in c.split("//")) for c in parts[1:]])
-    v, vn = np.array(v), np.array(vn)
+            # v//vn, or v/vt/vn in a textured group: (v, vn, vt or -1) per corner.
+            corners = []
+            for c in parts[1:]:
+                a, t, n = (c.split("/") + ["", ""])[:3]
+                corners.append((int(a) - 1, int(n) - 1, int(t) - 1 if t else -1))
+            current["faces"].append(corners)
+    v, vn, vt = np.array(v), np.array(vn), np.array(vt)
     out = {}
     for name, g in groups.items():
         corners = [c for f in g["faces"] for c in f]
         keys = sorted(set(corners))
         index = {k: i for i, k in enumerate(keys)}
-        positions = np.array([v[a] for a, _ in keys])
-        normals = np.array([vn[b] for _, b in keys])
+        positions = np.array([v[a] for a, _, _ in keys])
+        normals = np.array([vn[b] for _, b, _ in keys])
+        uv = np.array([vt[t] for _, _, t in keys]) if keys[0][2] >= 0 else None
         faces = np.array([[index[c] for c in f] for f in g["faces"]], dtype=np.uint32)
-        out[name] = (g["material"], positions, normals, faces)
+        out[name] = (g["material"], positions, normals, faces, uv)
     return out
+
+
+def check_exported_uv(group, ours, exported):
+    """The export's texture coordinates (OBJ: v upwards) must be the ones the script derives from
+    the scene: a check of `orbifold room`'s textures, through the peer comparison."""
+    if exported is None:
+        sys.exit(f"error: the export has no texture coordinates for the textured group {group!r}")
+    worst = float(np.abs(exported - ours).max())
+    if worst > 1e-4 * max(1.0, float(np.abs(ours).max())):
+        sys.exit(f"error: group {group!r}: the exported texture coordinates differ from the scene's "
+                 f"by up to {worst:.3g}")
 
 
 def read_mtl(path):
@@ -331,9 +351,13 @@ def mitsuba_scene(mi, scene, scene_dir, groups, materials, width, height, tmp):
             "sampler": {"type": "independent"},
         },
     }
-    for name, (material, positions, normals, faces) in groups.items():
+    for name, (material, positions, normals, faces, exported_uv) in groups.items():
         path = os.path.join(tmp, f"{name}.ply")
         bsdf, uv = mitsuba_bsdf(scene, scene_dir, name, materials[material], positions)
+        if uv is not None:
+            # Mitsuba's bitmaps have v downwards; its checkerboard is symmetric in v.
+            image = bsdf["bsdf"]["reflectance"]["type"] == "bitmap"
+            check_exported_uv(name, uv * [1.0, -1.0] if image else uv, exported_uv)
         write_ply(path, positions, normals, faces, uv)
         d[name.replace(".", "_")] = {"type": "ply", "filename": path, "bsdf": bsdf}
     for i, light in enumerate(scene.get("lights", [])):

@@ -49,7 +49,8 @@ pub struct TangentFrame {
 }
 
 impl TangentFrame {
-    /// A frame at the ambient point `x` (any frame: shading only needs one).
+    /// A frame at the ambient point `x` ([`Space::tangent_frame`]: shading needs any frame,
+    /// textures in intrinsic coordinates this one).
     ///
     /// ```
     /// use orbifold::{Geometry, space::Space};
@@ -61,23 +62,8 @@ impl TangentFrame {
     /// assert!((h2.point_dot(f.e1, f.e1) - 1.0).abs() < 1e-12 && h2.point_dot(f.e1, f.e2).abs() < 1e-12);
     /// ```
     pub fn at(space: Space, x: DVec3) -> TangentFrame {
-        let k = space.kappa();
-        let tangent = |a: DVec3| {
-            if k == 0.0 {
-                DVec3::new(a.x, a.y, 0.0)
-            } else {
-                a - x * (k * space.point_dot(x, a))
-            }
-        };
-        let mut t = tangent(DVec3::X);
-        if space.point_dot(t, t) < 0.25 {
-            t = tangent(DVec3::Y);
-        }
-        let e1 = t / space.point_dot(t, t).sqrt();
-        TangentFrame {
-            e1,
-            e2: space.quarter_turn(x, e1),
-        }
+        let [e1, e2] = space.tangent_frame(x);
+        TangentFrame { e1, e2 }
     }
 
     /// Local coordinates of a tangent vector (horizontal ambient part, vertical part).

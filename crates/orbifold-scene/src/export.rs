@@ -20,6 +20,7 @@ use crate::file::write_atomic;
 #[cfg(doc)]
 use crate::geometry::EXPORT_SCALE;
 use crate::geometry::MeshGroup;
+use crate::texture::TextureImage;
 
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,8 +51,9 @@ pub const COORDINATES_NOTE: &str = "coordinates: 2 model x, 2 model y, height ab
      the Euclidean plane or the Poincare disk, scaled by its metric at the centre so that a Euclidean room has its true size; \
      see docs/room.md)";
 
-/// Writes `groups` to `path` in `format`, atomically (for OBJ also `path` with `.mtl`). Returns
-/// the files written.
+/// Writes `groups` to `path` in `format`, atomically (for OBJ also `path` with `.mtl`, and the
+/// images of textured groups beside it; glTF embeds them: [`crate::texture`]). Returns the files
+/// written.
 pub fn export(
     groups: &[MeshGroup],
     format: ExportFormat,
@@ -65,16 +67,30 @@ pub fn export(
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "room.mtl".into());
-            write_atomic(&mtl, to_mtl(groups).as_bytes())?;
+            let images = Images::gather(groups, path)?;
+            let folder = path.parent().unwrap_or(Path::new(""));
+            let mut written = vec![path.to_path_buf(), mtl.clone()];
+            for (name, bytes) in &images.files {
+                let file = folder.join(name);
+                write_atomic(&file, bytes)?;
+                written.push(file);
+            }
+            write_atomic(&mtl, to_mtl(groups, &images.names()).as_bytes())?;
             write_atomic(path, to_obj(groups, &mtl_name, title).as_bytes())?;
-            Ok(vec![path.to_path_buf(), mtl])
+            Ok(written)
         }
         ExportFormat::Ply => {
             write_atomic(path, &to_ply(groups, title))?;
             Ok(vec![path.to_path_buf()])
         }
         ExportFormat::Glb => {
-            write_atomic(path, &to_glb(groups, title))?;
+            let images = Images::gather(groups, path)?;
+            let embedded: Vec<Option<&[u8]>> = images
+                .of_group
+                .iter()
+                .map(|k| k.map(|k| images.files[k].1.as_slice()))
+                .collect();
+            write_atomic(path, &to_glb_textured(groups, title, &embedded))?;
             Ok(vec![path.to_path_buf()])
         }
     }
@@ -97,6 +113,8 @@ pub struct Shaded {
     pub normals: Vec<[f32; 3]>,
     /// The group's triangles, in its order, over these vertices.
     pub triangles: Vec<[u32; 3]>,
+    /// Texture coordinates per vertex (empty when the group has none).
+    pub uv: Vec<[f64; 2]>,
 }
 
 /// The group's mesh with smooth vertex normals, as a viewer of the exported file should shade
@@ -120,6 +138,8 @@ pub struct Shaded {
 ///     crease: 60.0,
 ///     positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
 ///     triangles: vec![[0, 1, 2], [1, 0, 3]],
+///     uv: Vec::new(),
+///     texture: None,
 /// };
 /// let shaded = smooth_normals(&group);
 /// assert_eq!(shaded.positions.len(), 6);
@@ -164,7 +184,9 @@ pub fn smooth_normals(group: &MeshGroup) -> Shaded {
         positions: Vec::new(),
         normals: Vec::new(),
         triangles: Vec::with_capacity(group.triangles.len()),
+        uv: Vec::new(),
     };
+    let textured = group.uv.len() == group.positions.len() && !group.uv.is_empty();
     let mut index: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
     for (f, t) in group.triangles.iter().enumerate() {
         let triangle = t.map(|v| {
@@ -172,6 +194,9 @@ pub fn smooth_normals(group: &MeshGroup) -> Shaded {
             *index.entry((v, n.map(f32::to_bits))).or_insert_with(|| {
                 shaded.positions.push(group.positions[v as usize]);
                 shaded.normals.push(n);
+                if textured {
+                    shaded.uv.push(group.uv[v as usize]);
+                }
                 (shaded.positions.len() - 1) as u32
             })
         });
@@ -180,11 +205,12 @@ pub fn smooth_normals(group: &MeshGroup) -> Shaded {
     shaded
 }
 
-/// The OBJ text: one `o` object with its `usemtl` per group, positions and vertex normals.
+/// The OBJ text: one `o` object with its `usemtl` per group, positions, vertex normals and, for
+/// a textured group, texture coordinates (`vt`).
 pub fn to_obj(groups: &[MeshGroup], mtl_name: &str, title: &str) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# {title}\n# {COORDINATES_NOTE}\nmtllib {mtl_name}");
-    let mut base = 1;
+    let (mut base, mut uv_base) = (1, 1);
     for g in groups {
         if g.triangles.is_empty() {
             continue;
@@ -198,29 +224,115 @@ pub fn to_obj(groups: &[MeshGroup], mtl_name: &str, title: &str) -> String {
         for n in &shaded.normals {
             let _ = writeln!(out, "vn {} {} {}", n[0], n[1], n[2]);
         }
+        for t in &shaded.uv {
+            let _ = writeln!(out, "vt {} {}", t[0] as f32, t[1] as f32);
+        }
+        let textured = !shaded.uv.is_empty();
         for t in &shaded.triangles {
             let [a, b, c] = t.map(|v| v + base);
-            let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+            if textured {
+                let [ta, tb, tc] = t.map(|v| v + uv_base);
+                let _ = writeln!(out, "f {a}/{ta}/{a} {b}/{tb}/{b} {c}/{tc}/{c}");
+            } else {
+                let _ = writeln!(out, "f {a}//{a} {b}//{b} {c}//{c}");
+            }
         }
         base += shaded.positions.len() as u32;
+        uv_base += shaded.uv.len() as u32;
     }
     out
 }
 
 /// The MTL text: a diffuse colour per group; mirrors get a specular colour and `illum 3`
-/// (reflection) as well.
-pub fn to_mtl(groups: &[MeshGroup]) -> String {
+/// (reflection) as well. A textured group gets `map_Kd` with its image's file name from
+/// `images` (by the group's index; none there: its colour alone) and a white `Kd`, which
+/// viewers multiply the image by.
+pub fn to_mtl(groups: &[MeshGroup], images: &[Option<String>]) -> String {
     let mut out = String::from("# orbifold room materials\n");
-    for g in groups {
+    for (i, g) in groups.iter().enumerate() {
         let [r, gr, b] = g.color;
         let _ = writeln!(out, "newmtl {}", identifier(&g.name));
         if g.mirror {
             let _ = writeln!(out, "Kd 0 0 0\nKs {r} {gr} {b}\nNs 1000\nillum 3\n");
+        } else if let Some(Some(image)) = images.get(i) {
+            let _ = writeln!(out, "Kd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd {image}\n");
         } else {
             let _ = writeln!(out, "Kd {r} {gr} {b}\nKs 0 0 0\nillum 1\n");
         }
     }
     out
+}
+
+/// The distinct images of the textured groups of an export, each with the name it has beside
+/// an OBJ (`STEM-checker-N.png` for a checker, `STEM-NAME` for a copied file) and its bytes,
+/// and for each group the index of its image. An image file that cannot be read is an error.
+struct Images {
+    /// (file name, bytes) of each distinct image.
+    files: Vec<(String, Vec<u8>)>,
+    /// Each group's image, by index into `files`.
+    of_group: Vec<Option<usize>>,
+}
+
+impl Images {
+    fn gather(groups: &[MeshGroup], path: &Path) -> std::io::Result<Images> {
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "room".into(), |s| identifier(&s.to_string_lossy()));
+        let mut seen: Vec<&TextureImage> = Vec::new();
+        let mut files = Vec::new();
+        let mut of_group = Vec::with_capacity(groups.len());
+        for g in groups {
+            let Some(image) = g.texture.as_ref().filter(|_| !g.uv.is_empty()) else {
+                of_group.push(None);
+                continue;
+            };
+            if let Some(k) = seen.iter().position(|i| *i == image) {
+                of_group.push(Some(k));
+                continue;
+            }
+            let file = match image {
+                TextureImage::File(file) => {
+                    let own = file
+                        .file_name()
+                        .map_or_else(|| "texture".into(), |n| n.to_string_lossy().into_owned());
+                    let bytes = std::fs::read(file).map_err(|e| {
+                        std::io::Error::new(
+                            e.kind(),
+                            format!("cannot read the texture {}: {e}", file.display()),
+                        )
+                    })?;
+                    (identifier(&format!("{stem}-{own}")), bytes)
+                }
+                TextureImage::Checker(_) => {
+                    let bytes = image
+                        .checker_png()
+                        .ok_or_else(|| std::io::Error::other("cannot encode a checker image"))?;
+                    (format!("{stem}-checker-{}.png", files.len()), bytes)
+                }
+            };
+            of_group.push(Some(files.len()));
+            files.push(file);
+            seen.push(image);
+        }
+        Ok(Images { files, of_group })
+    }
+
+    /// Each group's image file name, for the MTL.
+    fn names(&self) -> Vec<Option<String>> {
+        self.of_group
+            .iter()
+            .map(|k| k.map(|k| self.files[k].0.clone()))
+            .collect()
+    }
+}
+
+/// The MIME type of an image's bytes, as glTF names it (PNG or JPEG, what scenes may hold).
+fn mime_type(bytes: &[u8]) -> &'static str {
+    if bytes.starts_with(&[0xFF, 0xD8]) {
+        "image/jpeg"
+    } else {
+        "image/png"
+    }
 }
 
 /// Binary little-endian PLY: vertices with a normal and a colour, faces with a `group` index;
@@ -273,10 +385,23 @@ pub fn to_ply(groups: &[MeshGroup], title: &str) -> Vec<u8> {
 /// glTF 2.0 binary: one mesh and one node per group, named as the group, with a PBR material
 /// (mirrors metallic and smooth).
 pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
+    to_glb_textured(groups, title, &[])
+}
+
+/// [`to_glb`] with the textured groups' images embedded: `images` holds each group's PNG or
+/// JPEG bytes (by the group's index; none there: its colour alone). A group with an image gets
+/// `TEXCOORD_0` (glTF's v runs down the image: 1 − v) and a base-colour texture that repeats.
+pub fn to_glb_textured(groups: &[MeshGroup], title: &str, images: &[Option<&[u8]>]) -> Vec<u8> {
     let mut bin: Vec<u8> = Vec::new();
     let (mut views, mut accessors, mut meshes, mut nodes, mut materials) =
         (vec![], vec![], vec![], vec![], vec![]);
-    for g in groups.iter().filter(|g| !g.triangles.is_empty()) {
+    // Embedded images, once each: the same bytes share an image and a texture.
+    let mut embedded: Vec<&[u8]> = Vec::new();
+    let mut image_json = Vec::new();
+    for (index, g) in groups.iter().enumerate() {
+        if g.triangles.is_empty() {
+            continue;
+        }
         let shaded = smooth_normals(g);
         // glTF is Y up: (x, y, h) ↦ (x, h, −y), a rotation, keeps handedness and puts the
         // floor down; the normals turn with it.
@@ -317,17 +442,47 @@ pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
         accessors.push(json!({"bufferView": position_view, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi}));
         accessors.push(json!({"bufferView": normal_view, "componentType": 5126, "count": positions.len(), "type": "VEC3"}));
         accessors.push(json!({"bufferView": index_view, "componentType": 5125, "count": shaded.triangles.len() * 3, "type": "SCALAR"}));
-        let [r, gr, b] = g.color;
+        let mut attributes =
+            json!({"POSITION": position_accessor, "NORMAL": position_accessor + 1});
+        let image = images.get(index).copied().flatten();
+        let mut pbr = match image {
+            Some(bytes) if !shaded.uv.is_empty() && !g.mirror => {
+                let uv_view = views.len();
+                views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": shaded.uv.len() * 8, "target": 34962}));
+                for t in &shaded.uv {
+                    for c in [t[0] as f32, (1.0 - t[1]) as f32] {
+                        bin.extend_from_slice(&c.to_le_bytes());
+                    }
+                }
+                attributes["TEXCOORD_0"] = json!(accessors.len());
+                accessors.push(json!({"bufferView": uv_view, "componentType": 5126, "count": shaded.uv.len(), "type": "VEC2"}));
+                let texture = embedded.iter().position(|e| *e == bytes).unwrap_or_else(|| {
+                    views.push(json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()}));
+                    bin.extend_from_slice(bytes);
+                    // The accessors that follow stay aligned to 4 bytes.
+                    bin.resize(bin.len().next_multiple_of(4), 0);
+                    image_json.push(json!({"bufferView": views.len() - 1, "mimeType": mime_type(bytes)}));
+                    embedded.push(bytes);
+                    embedded.len() - 1
+                });
+                json!({"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "baseColorTexture": {"index": texture}})
+            }
+            _ => {
+                let [r, gr, b] = g.color;
+                json!({"baseColorFactor": [r, gr, b, 1.0]})
+            }
+        };
         let (metallic, roughness) = if g.mirror { (1.0, 0.02) } else { (0.0, 0.8) };
-        materials.push(json!({"name": g.name, "doubleSided": true, "pbrMetallicRoughness": {
-            "baseColorFactor": [r, gr, b, 1.0], "metallicFactor": metallic, "roughnessFactor": roughness}}));
+        pbr["metallicFactor"] = json!(metallic);
+        pbr["roughnessFactor"] = json!(roughness);
+        materials.push(json!({"name": g.name, "doubleSided": true, "pbrMetallicRoughness": pbr}));
         meshes.push(json!({"name": g.name, "primitives": [{
-            "attributes": {"POSITION": position_accessor, "NORMAL": position_accessor + 1},
+            "attributes": attributes,
             "indices": position_accessor + 2,
             "material": materials.len() - 1, "mode": 4}]}));
         nodes.push(json!({"name": g.name, "mesh": meshes.len() - 1}));
     }
-    let document = json!({
+    let mut document = json!({
         "asset": {"version": "2.0", "generator": "orbifold", "extras": {"title": title, "coordinates":
             "glTF is Y up: a room point (x, y, height h), x and y twice the model coordinates, is stored as (x, h, -y)"}},
         "scene": 0,
@@ -336,6 +491,14 @@ pub fn to_glb(groups: &[MeshGroup], title: &str) -> Vec<u8> {
         "accessors": accessors, "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}],
     });
+    if !image_json.is_empty() {
+        let textures: Vec<_> = (0..image_json.len())
+            .map(|k| json!({"sampler": 0, "source": k}))
+            .collect();
+        document["images"] = json!(image_json);
+        document["textures"] = json!(textures);
+        document["samplers"] = json!([{"wrapS": 10497, "wrapT": 10497}]);
+    }
     glb_container(document.to_string().into_bytes(), bin)
 }
 

@@ -16,6 +16,7 @@ use crate::document::{Color, Material, MetalName, Mirror, MirrorDefault, Scene, 
 use crate::mesh::TriangleMesh;
 use crate::mesh::import::load_mesh;
 use crate::mesh::procedural::builtin;
+use crate::texture::{PartTexture, TextureImage};
 
 /// What a part of the room is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,6 +69,8 @@ pub struct RoomGeometry {
     pub mesher: RoomMesher,
     /// Floor, ceiling, wall and mirror parts, then objects.
     pub parts: Vec<Part>,
+    /// Each part's texture in exports, where it has one ([`crate::texture`]).
+    pub textures: Vec<Option<PartTexture>>,
 }
 
 /// A group of an exported mesh: a part (or all copies of a part) in output coordinates.
@@ -86,6 +89,10 @@ pub struct MeshGroup {
     pub positions: Vec<[f64; 3]>,
     /// Triangles, counter-clockwise seen from the front.
     pub triangles: Vec<[u32; 3]>,
+    /// Texture coordinates, one (u, v) per position (v upwards, as in OBJ), or none.
+    pub uv: Vec<[f64; 2]>,
+    /// The image the texture coordinates index, if any ([`crate::texture`]).
+    pub texture: Option<TextureImage>,
 }
 
 /// Model coordinates farther than this from the origin are left out of exports (on the sphere,
@@ -187,10 +194,12 @@ impl Scene {
         for i in 0..self.objects.len() {
             parts.push(self.object_part(&layout, i, base)?);
         }
+        let textures = self.part_textures(&layout, &mesher, &parts, base);
         Ok(RoomGeometry {
             layout,
             mesher,
             parts,
+            textures,
         })
     }
 
@@ -378,7 +387,13 @@ impl RoomGeometry {
         let space = self.layout.space();
         let mut omitted = 0;
         let mut groups = Vec::with_capacity(self.parts.len() * 2);
-        for part in &self.parts {
+        let no_textures = vec![None; self.parts.len()];
+        let textures = if self.textures.len() == self.parts.len() {
+            &self.textures
+        } else {
+            &no_textures
+        };
+        for (part, texture) in self.parts.iter().zip(textures) {
             let mut group = MeshGroup {
                 name: part.name.clone(),
                 color: part.color,
@@ -386,8 +401,10 @@ impl RoomGeometry {
                 crease: part.crease,
                 positions: Vec::new(),
                 triangles: Vec::new(),
+                uv: Vec::new(),
+                texture: texture.as_ref().map(|t| t.image.clone()),
             };
-            omitted += add_copy(&mut group, space, &part.surface, None);
+            omitted += add_copy(&mut group, space, &part.surface, texture.as_ref(), None);
             groups.push(group);
         }
         let images = copies.iter().filter(|t| t.depth > 0);
@@ -398,12 +415,15 @@ impl RoomGeometry {
                     name: format!("{} copies", g.name),
                     positions: Vec::new(),
                     triangles: Vec::new(),
+                    uv: Vec::new(),
                     ..g.clone()
                 })
                 .collect();
             for tile in images {
-                for (part, group) in self.parts.iter().zip(&mut image_groups) {
-                    omitted += add_copy(group, space, &part.surface, Some(tile));
+                for ((part, texture), group) in
+                    self.parts.iter().zip(textures).zip(&mut image_groups)
+                {
+                    omitted += add_copy(group, space, &part.surface, texture.as_ref(), Some(tile));
                 }
             }
             groups.extend(image_groups);
@@ -413,14 +433,19 @@ impl RoomGeometry {
 }
 
 /// Appends the image of `surface` under `tile` (or the surface itself) to `group` in export
-/// coordinates; returns how many triangles were left out for being too far out.
+/// coordinates, with the texture coordinates of the surface's own vertices (a copy carries its
+/// texture along); returns how many triangles were left out for being too far out.
 fn add_copy(
     group: &mut MeshGroup,
     space: orbifold::space::Space,
     surface: &Surface,
+    texture: Option<&PartTexture>,
     tile: Option<&Tile>,
 ) -> usize {
     let offset = group.positions.len() as u32;
+    if let Some(texture) = texture {
+        group.uv.extend_from_slice(&texture.uv);
+    }
     let moved = |p: DVec3| tile.map_or(p, |t| t.matrix * p);
     group
         .positions

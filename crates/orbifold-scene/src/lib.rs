@@ -18,6 +18,7 @@ pub mod export;
 pub mod file;
 pub mod geometry;
 pub mod mesh;
+pub mod texture;
 pub mod validate;
 
 pub use document::*;

@@ -8,9 +8,10 @@ use orbifold::cover::{Bound, Cover};
 use orbifold_scene::export::{
     ExportFormat, export, identifier, smooth_normals, to_glb, to_obj, to_ply,
 };
-use orbifold_scene::geometry::{MeshGroup, PartKind};
+use orbifold_scene::geometry::{EXPORT_SCALE, MeshGroup, PartKind};
 use orbifold_scene::mesh::import::{MeshFormat, parse_mesh};
-use orbifold_scene::{Mirror, Scene, Wall};
+use orbifold_scene::texture::TextureImage;
+use orbifold_scene::{Coordinates, Material, Mirror, Scene, Wall};
 use proptest::prelude::*;
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -133,7 +134,15 @@ fn obj_reads_back_with_its_groups() {
     let dir = temp_dir("obj");
     let path = dir.join("room.obj");
     let written = export(&groups, ExportFormat::Obj, &path, "test").unwrap();
-    assert_eq!(written, [path.clone(), dir.join("room.mtl")]);
+    // The default floor is a checkerboard: its image is written beside the OBJ.
+    assert_eq!(
+        written,
+        [
+            path.clone(),
+            dir.join("room.mtl"),
+            dir.join("room-checker-0.png")
+        ]
+    );
     let (models, materials) = tobj::load_obj(&path, &tobj::GPU_LOAD_OPTIONS).unwrap();
     let materials = materials.unwrap();
     let names: Vec<String> = models.iter().map(|m| m.name.clone()).collect();
@@ -303,6 +312,8 @@ fn soup() -> impl Strategy<Value = MeshGroup> {
                 })
                 .collect(),
             triangles,
+            uv: Vec::new(),
+            texture: None,
         })
 }
 
@@ -388,4 +399,158 @@ fn exports_keep_the_proportions_of_the_room_and_its_objects() {
         let next = geometry.layout.vertices[(i + 1) % 3].position * EXPORT_SCALE;
         assert!(((next - corner).norm() - edge.length).abs() < 1e-9);
     }
+}
+
+/// A room whose floor, a wall and an object carry images and whose ceiling and another wall
+/// carry checkerboards, in a folder of its own with its image.
+fn textured_scene(dir: &std::path::Path) -> Scene {
+    let tiles = image::RgbImage::from_fn(4, 2, |x, y| {
+        image::Rgb([(60 * x) as u8, (200 * y) as u8, 90])
+    });
+    tiles.save(dir.join("tiles.png")).unwrap();
+    let mut scene = Scene::default();
+    scene.orbifold.signature = "*2222".into();
+    scene.lights.clear();
+    scene.room.mirrors = orbifold_scene::MirrorDefault::None;
+    let image = |scale, coordinates| Material::Texture {
+        path: "tiles.png".into(),
+        scale,
+        coordinates,
+    };
+    scene.room.floor = image(0.5, Coordinates::Model);
+    scene.room.ceiling = Material::Checker {
+        colors: [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+        size: 0.3,
+        coordinates: Coordinates::Model,
+    };
+    scene.walls = vec![
+        Wall {
+            index: 0,
+            material: Some(Material::Checker {
+                colors: [[0.0; 3], [1.0; 3]],
+                size: 0.2,
+                coordinates: Coordinates::Model,
+            }),
+            mirrors: Vec::new(),
+        },
+        Wall {
+            index: 1,
+            material: Some(image(0.4, Coordinates::Model)),
+            mirrors: Vec::new(),
+        },
+    ];
+    scene.objects[0].material = image(0.25, Coordinates::Intrinsic);
+    scene
+}
+
+#[test]
+fn textures_export_with_the_renderer_s_coordinates() {
+    let dir = temp_dir("textures");
+    let scene = textured_scene(&dir);
+    let geometry = scene.geometry(Some(&dir)).unwrap();
+    let (groups, _) = geometry.groups(&[]);
+    let group = |name: &str| groups.iter().find(|g| g.name == name).unwrap();
+    // The floor in model coordinates: u, v = model x, y over the scale (exports double x, y).
+    let floor = group("floor");
+    assert_eq!(floor.uv.len(), floor.positions.len());
+    for (p, uv) in floor.positions.iter().zip(&floor.uv) {
+        assert!((uv[0] - p[0] / EXPORT_SCALE / 0.5).abs() < 1e-9);
+        assert!((uv[1] - p[1] / EXPORT_SCALE / 0.5).abs() < 1e-9);
+    }
+    // Wall 1 from its first corner: u·scale is the distance along it (true size in E²), v·scale
+    // the height.
+    let layout = scene.layout().unwrap();
+    let corner = layout.vertices[layout.edges[1].from.unwrap()].position * EXPORT_SCALE;
+    let wall = group("wall 1");
+    for (p, uv) in wall.positions.iter().zip(&wall.uv) {
+        let along = (p[0] - corner.re).hypot(p[1] - corner.im);
+        assert!((uv[0] * 0.4 - along).abs() < 1e-6, "{uv:?} at {along}");
+        assert!((uv[1] * 0.4 - p[2]).abs() < 1e-9);
+    }
+    // The ceiling at height 1: ⌊1/0.3⌋ = 3 is odd, so its squares swap colours.
+    assert_eq!(
+        group("ceiling").texture,
+        Some(TextureImage::Checker([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]))
+    );
+    // The object in intrinsic coordinates: in E² the offset from the centre, at true size.
+    let object = group("object 0");
+    let c = layout.centre * EXPORT_SCALE;
+    for (p, uv) in object.positions.iter().zip(&object.uv) {
+        assert!((uv[0] * 0.25 - (p[0] - c.re)).abs() < 1e-6);
+        assert!((uv[1] * 0.25 - (p[1] - c.im)).abs() < 1e-6);
+    }
+    // Read back by tobj: texture coordinates, and each image beside the OBJ.
+    let path = dir.join("room.obj");
+    let written = export(&groups, ExportFormat::Obj, &path, "test").unwrap();
+    for name in ["room-tiles.png", "room-checker-1.png", "room-checker-2.png"] {
+        assert!(written.contains(&dir.join(name)), "{name} in {written:?}");
+    }
+    let (models, materials) = tobj::load_obj(&path, &tobj::GPU_LOAD_OPTIONS).unwrap();
+    let materials = materials.unwrap();
+    for model in &models {
+        let textured = group(&model.name.replace('_', " ")).texture.is_some();
+        assert_eq!(!model.mesh.texcoords.is_empty(), textured, "{}", model.name);
+        let material = &materials[model.mesh.material_id.unwrap()];
+        assert_eq!(
+            material.diffuse_texture.is_some(),
+            textured,
+            "{}",
+            model.name
+        );
+        if let Some(file) = &material.diffuse_texture {
+            assert!(dir.join(file).is_file(), "{file}");
+        }
+    }
+    // The wall's checker image: colours[0] at the bottom left (v upwards), sRGB.
+    let checker = image::open(dir.join("room-checker-2.png"))
+        .unwrap()
+        .to_rgb8();
+    let (w, h) = checker.dimensions();
+    assert_eq!(checker.get_pixel(0, h - 1).0, [0, 0, 0]);
+    assert_eq!(checker.get_pixel(w - 1, h - 1).0, [255, 255, 255]);
+    assert_eq!(checker.get_pixel(0, 0).0, [255, 255, 255]);
+    // glTF embeds the images: each textured mesh has TEXCOORD_0 (v down the image) and a
+    // base-colour texture whose image is the same PNG.
+    let glb = dir.join("room.glb");
+    export(&groups, ExportFormat::Glb, &glb, "test").unwrap();
+    let gltf = gltf::Gltf::from_slice(&std::fs::read(&glb).unwrap()).unwrap();
+    let blob = gltf.blob.clone().unwrap();
+    assert_eq!(gltf.document.images().count(), 3);
+    for mesh in gltf.document.meshes() {
+        let group = group(mesh.name().unwrap());
+        let primitive = mesh.primitives().next().unwrap();
+        let reader = primitive.reader(|b| (b.index() == 0).then_some(blob.as_slice()));
+        let texture = primitive
+            .material()
+            .pbr_metallic_roughness()
+            .base_color_texture();
+        assert_eq!(texture.is_some(), group.texture.is_some(), "{}", group.name);
+        let Some(texture) = texture else {
+            assert!(reader.read_tex_coords(0).is_none());
+            continue;
+        };
+        let uv: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
+        let shaded = smooth_normals(group);
+        assert_eq!(uv.len(), shaded.uv.len());
+        for (a, b) in uv.iter().zip(&shaded.uv) {
+            assert!(
+                (f64::from(a[0]) - b[0]).abs() < 1e-5
+                    && (f64::from(a[1]) - (1.0 - b[1])).abs() < 1e-5
+            );
+        }
+        let gltf::image::Source::View { view, mime_type } = texture.texture().source().source()
+        else {
+            panic!("an embedded image");
+        };
+        assert_eq!(mime_type, "image/png");
+        let bytes = &blob[view.offset()..view.offset() + view.length()];
+        assert!(image::load_from_memory(bytes).is_ok());
+    }
+    // A copy under the group carries its texture along.
+    let cover = Cover::enumerate_layout(layout, Bound::Depth(1), true).unwrap();
+    let (copies, _) = geometry.groups(&cover.tiles);
+    let floors = copies.iter().find(|g| g.name == "floor copies").unwrap();
+    assert_eq!(floors.uv.len(), floors.positions.len());
+    assert_eq!(floors.uv[..floor.uv.len()], floor.uv[..]);
+    std::fs::remove_dir_all(dir).unwrap();
 }

@@ -372,6 +372,38 @@ impl Space {
         DVec3::new(c.x, c.y, self.kappa * c.z)
     }
 
+    /// An orthonormal frame (e₁, e₂ = J e₁) of the tangent plane at the ambient point `x`: e₁ is
+    /// the ambient x axis projected onto the plane (the y axis where that is too short). At the
+    /// model's origin, and everywhere in the Euclidean plane, e₁ is the model's +x direction.
+    /// Shading takes any frame; texture coordinates in the logarithm map at a room's centre use
+    /// this one, in the renderer and in mesh exports alike.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use orbifold::{Geometry, space::Space};
+    /// let h2 = Space::new(Geometry::Hyperbolic);
+    /// let x = h2.exp(DVec3::Z, DVec3::new(0.3, -1.2, 0.0));
+    /// let [e1, e2] = h2.tangent_frame(x);
+    /// assert!((h2.point_dot(e1, e1) - 1.0).abs() < 1e-12 && h2.point_dot(e1, e2).abs() < 1e-12);
+    /// assert!(h2.point_dot(e1, x).abs() < 1e-12);
+    /// ```
+    pub fn tangent_frame(&self, x: DVec3) -> [DVec3; 2] {
+        let k = self.kappa;
+        let tangent = |a: DVec3| {
+            if k == 0.0 {
+                DVec3::new(a.x, a.y, 0.0)
+            } else {
+                a - x * (k * self.point_dot(x, a))
+            }
+        };
+        let mut t = tangent(DVec3::X);
+        if self.point_dot(t, t) < 0.25 {
+            t = tangent(DVec3::Y);
+        }
+        let e1 = t / self.point_dot(t, t).sqrt();
+        [e1, self.quarter_turn(x, e1)]
+    }
+
     /// The reflection of an ambient point or tangent vector in a wall ν (normalised so that
     /// ν₁² + ν₂² + κν₃² = 1): x ↦ x − 2(ν·x)·Gν. Linear, so it maps points, tangent vectors and
     /// geodesics alike.
