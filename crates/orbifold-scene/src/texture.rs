@@ -113,7 +113,8 @@ impl Coords<'_> {
         }
     }
 
-    /// The arc length along wall `w` from its first corner (or its cusp cut) to its point `p`.
+    /// The arc length along wall `w` from its first corner (or its cusp cut) to its point `p`:
+    /// the renderer's wall coordinate, from the same mesher's start point.
     fn along_wall(&self, w: usize, p: DVec3) -> Option<f64> {
         let space = self.space;
         let start = self.mesher.wall_point(w, 0.0)?;
@@ -122,7 +123,9 @@ impl Coords<'_> {
         let toward = space.log(start, self.mesher.wall_point(w, 0.25)?);
         let tangent = toward / space.point_dot(toward, toward).sqrt();
         let s = space.geodesic_parameter(start, tangent, p);
-        let closed = self.layout.edges.len() == 1;
+        // As the renderer's room (orbifold_render::room): a polygon without corners is one
+        // closed wall, `*`, whose arc length runs on past the antipode.
+        let closed = self.layout.vertices.is_empty();
         Some(if closed && s < 0.0 {
             s + std::f64::consts::TAU
         } else {
@@ -171,12 +174,16 @@ impl Scene {
         };
         let surface = &part.surface;
         let points = |intrinsic: bool| -> Option<Vec<[f64; 3]>> {
-            surface
+            let mut p: Vec<[f64; 3]> = surface
                 .points
                 .iter()
                 .zip(&surface.heights)
                 .map(|(&p, &h)| coords.at(part.kind, intrinsic, p, h))
-                .collect()
+                .collect::<Option<_>>()?;
+            if coords.layout.vertices.is_empty() && matches!(part.kind, PartKind::Wall(_)) {
+                unwrap_closed_wall(&mut p, &surface.triangles);
+            }
+            Some(p)
         };
         match material {
             Material::Texture {
@@ -215,6 +222,29 @@ impl Scene {
                 })
             }
             _ => None,
+        }
+    }
+}
+
+/// The single wall of `*` closes on itself: its last column of vertices lies where its first
+/// does, at arc length 0, though it ends the wall at 2π. A triangle that spans more than half
+/// the wall crosses that seam; its vertices near 0 are the closing ones, moved on by 2π (they
+/// belong to no other triangles), so the texture runs on instead of back across the wall.
+fn unwrap_closed_wall(p: &mut [[f64; 3]], triangles: &[[u32; 3]]) {
+    let period = std::f64::consts::TAU;
+    for t in triangles {
+        let along = t.map(|i| p[i as usize][0]);
+        let (lo, hi) = along
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &a| {
+                (lo.min(a), hi.max(a))
+            });
+        if hi - lo > 0.5 * period {
+            for &i in t {
+                if p[i as usize][0] < 0.5 * period {
+                    p[i as usize][0] += period;
+                }
+            }
         }
     }
 }

@@ -554,3 +554,32 @@ fn textures_export_with_the_renderer_s_coordinates() {
     assert_eq!(floors.uv[..floor.uv.len()], floor.uv[..]);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn the_closed_wall_of_star_runs_its_texture_once_round() {
+    // `*` has one wall, a great circle: its last column of vertices sits on its first.
+    let dir = temp_dir("star");
+    let mut scene = textured_scene(&dir);
+    scene.orbifold.signature = "*".into();
+    scene.walls.clear();
+    scene.room.wall_material = Material::Texture {
+        path: "tiles.png".into(),
+        scale: 1.0,
+        coordinates: Coordinates::Model,
+    };
+    let (groups, _) = scene.geometry(Some(&dir)).unwrap().groups(&[]);
+    let wall = groups.iter().find(|g| g.name == "wall 0").unwrap();
+    let most = wall
+        .uv
+        .iter()
+        .map(|t| t[0])
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!((most - std::f64::consts::TAU).abs() < 1e-9, "{most}");
+    for t in &wall.triangles {
+        let u = t.map(|i| wall.uv[i as usize][0]);
+        let spread = u.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - u.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(spread < 0.5, "a triangle across the seam: {u:?}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
