@@ -837,20 +837,7 @@ impl Bvh {
         if !centre.is_finite() {
             centre = points[triangles[tris[0] as usize][0] as usize];
         }
-        let k = space.kappa();
-        let tangent = |v: DVec3| {
-            if k == 0.0 {
-                DVec3::new(v.x, v.y, 0.0)
-            } else {
-                v - centre * (k * space.point_dot(centre, v))
-            }
-        };
-        let mut e1 = tangent(DVec3::X);
-        if space.point_dot(e1, e1) < 0.25 {
-            e1 = tangent(DVec3::Y);
-        }
-        let e1 = e1 / space.point_dot(e1, e1).sqrt();
-        let e2 = space.quarter_turn(centre, e1);
+        let [e1, e2] = space.tangent_frame(centre);
         let vertex_key = |i: u32| {
             let l = space.log(centre, points[i as usize]);
             DVec3::new(
