@@ -3,7 +3,7 @@
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
 //! [--no-cache] [--reference T] [--crease DEGREES]` (`--save`
-//! writes the raw and denoised PNGs, the difference of the two denoised images, 8 grey levels a
+//! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
 //! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
@@ -264,7 +264,12 @@ fn main() {
         };
         if let Some(dir) = &args.save {
             std::fs::create_dir_all(dir).expect("the --save directory");
-            for (film, tag) in [(&a.film, "raw"), (&da, "denoised"), (&db, "denoised-2")] {
+            for (film, tag) in [
+                (&a.film, "raw"),
+                (&b.film, "raw-2"),
+                (&da, "denoised"),
+                (&db, "denoised-2"),
+            ] {
                 film.write(&dir.join(format!("{name}-{tag}.png")), exposure)
                     .expect("the image is written");
             }

@@ -41,6 +41,12 @@ pub const MAX_MIRROR_BOUNCES: usize = 256;
 
 /// Below this luminance of a path's throughput, mirror chains play Russian roulette.
 const ROULETTE_LEVEL: f64 = 0.1;
+/// The level for a camera ray that carries its pixel's footprint, much lower: every stretch of
+/// it gathers the light images near it ([`crate::footprint`]), so that a march cut short
+/// early loses a long tail of them, and the paths that survive carry that tail weighted up
+/// (at `ROULETTE_LEVEL` this was nearly all the variance of the band of far light images at
+/// the horizon of a hyperbolic room; docs/benchmarks.md).
+const FOOTPRINT_ROULETTE_LEVEL: f64 = 0.01;
 
 /// Settings of the light transport.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -399,6 +405,22 @@ const NEAR_CLAMP: f64 = 0.05;
 /// Per-point weights use at least this cosine (the bound is rough off the floor and ceiling).
 const COSINE_FLOOR: f64 = 0.05;
 
+/// A surface normal as the per-point light weights use it: its horizontal part (an ambient
+/// tangent vector at the point, of length √(1 − up²)) and its vertical part.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Normal {
+    across: DVec3,
+    up: f64,
+}
+
+impl Normal {
+    /// The normal `local` (unit, in `frame`'s local coordinates).
+    fn new(frame: &TangentFrame, local: DVec3) -> Normal {
+        let (across, up) = frame.to_ambient(local);
+        Normal { across, up }
+    }
+}
+
 /// The near light images as the per-point weights use them, one array per quantity so that the
 /// loop over them runs several images at a time in SIMD registers (it runs at every path
 /// vertex, over up to `NEAR_MAX` images).
@@ -429,17 +451,17 @@ impl NearImages {
         near
     }
 
-    /// The weights at `(x, h, up, floor)` in a geometry of curvature `k` whose sign is `K`
-    /// (see [`Integrator::near_weights`]), and their sum. Straight-line code: the inverse
-    /// functions are `fastmath`'s, the branches selects.
+    /// The weights at `(x, h)` with normal `(across, up)` and `floor` in a geometry of
+    /// curvature `k` whose sign is `K` (see [`Integrator::near_weights`]), and their sum.
+    /// Straight-line code: the inverse functions are `fastmath`'s, the branches selects.
     #[inline(always)]
     fn weights<const K: i32>(
         &self,
         k: f64,
-        (x, h, up, floor): (DVec3, f64, f64, f64),
+        (x, h, normal, floor): (DVec3, f64, Normal, f64),
         weights: &mut [f64; NEAR_MAX],
     ) -> f64 {
-        let side = (1.0 - up * up).max(0.0).sqrt();
+        let Normal { across, up } = normal;
         let n = self.x.len().min(NEAR_MAX);
         let (px, py, pz) = (&self.x[..n], &self.y[..n], &self.z[..n]);
         let (height, long_way, power) = (&self.height[..n], &self.long_way[..n], &self.power[..n]);
@@ -459,11 +481,17 @@ impl NearImages {
             } else {
                 c * (1.0 - k * half * half).max(0.0).sqrt()
             };
+            // The normal's horizontal part along the initial direction u of the geodesic to the
+            // image, times σ: ⟨n, y − x⟩ = S(σ)⟨n, u⟩ (σ⟨n, u⟩ in E²); the long way round
+            // leaves x along −u and is 2π − σ long.
+            let toward = -(across.x * dx + across.y * dy + k * across.z * dz);
+            let horizontal = toward * (sigma - long_way[i] * std::f64::consts::TAU)
+                / sine.max(f64::MIN_POSITIVE);
             let sigma = sigma + long_way[i] * (std::f64::consts::TAU - 2.0 * sigma);
             let dh = height[i] - h;
             let length2 = sigma * sigma + dh * dh;
             let ratio = if sigma > 1e-9 { sine / sigma } else { 1.0 };
-            let cosine = ((side * sigma + up * dh) / length2.sqrt()).clamp(COSINE_FLOOR, 1.0);
+            let cosine = ((horizontal + up * dh) / length2.sqrt()).clamp(COSINE_FLOOR, 1.0);
             weights[i] = power[i] * cosine / (length2 * ratio).max(floor);
         }
         weights[..n].iter().sum()
@@ -828,20 +856,21 @@ impl Integrator {
     }
 
     /// The per-point weights of the `near` choices at (x, h) (power × reflectance bound / J of
-    /// the connection to the image's centre × a bound on the cosine there) into `weights`;
-    /// returns their sum. `up` is the vertical component of the unit normal at x.
+    /// the connection to the image's centre × the cosine there) into `weights`; returns their
+    /// sum. `normal` is the unit normal at x.
     ///
     /// The cosine at x of the geodesic to an image at horizontal distance σ and height
-    /// difference Δh is (n_h·u σ + up·Δh)/ℓ for the unit horizontal direction u, at most
-    /// (|n_h| σ + up·Δh)/ℓ — exact on the floor and the ceiling, where it falls off as Δh/ℓ and
-    /// makes far images weigh as 1/ℓ³ rather than 1/ℓ².
-    fn near_weights(&self, x: DVec3, h: f64, up: f64, weights: &mut [f64; NEAR_MAX]) -> f64 {
+    /// difference Δh is (⟨n_h, u⟩ σ + up·Δh)/ℓ for the unit horizontal direction u of the
+    /// geodesic, where ⟨n_h, u⟩ = ⟨n_h, y − x⟩/S(σ) for the image's position y: one dot
+    /// product. Images behind the surface then weigh next to nothing (the cosine's floor), and
+    /// on the floor and the ceiling far images weigh as 1/ℓ³ rather than 1/ℓ².
+    fn near_weights(&self, x: DVec3, h: f64, normal: Normal, weights: &mut [f64; NEAR_MAX]) -> f64 {
         crate::cpu::with_avx2!(
             Integrator,
             self.near_weights_portable(
                 x: DVec3,
                 h: f64,
-                up: f64,
+                normal: Normal,
                 weights: &mut [f64; NEAR_MAX],
             ) -> f64
         )
@@ -852,12 +881,12 @@ impl Integrator {
         &self,
         x: DVec3,
         h: f64,
-        up: f64,
+        normal: Normal,
         weights: &mut [f64; NEAR_MAX],
     ) -> f64 {
         let space = self.space();
         let floor = spread(space, NEAR_CLAMP, NEAR_CLAMP);
-        let at = (x, h, up, floor);
+        let at = (x, h, normal, floor);
         let k = space.kappa();
         if k > 0.0 {
             self.near_images.weights::<1>(k, at, weights)
@@ -871,10 +900,10 @@ impl Integrator {
     /// Picks a light-sampling choice at (x, h): with probability `NEAR_SHARE` among the near
     /// images by per-point weights, else from the scene-wide distribution. Returns the entry
     /// and its probability.
-    fn pick_entry(&self, x: DVec3, h: f64, up: f64, u: f64) -> Option<(usize, f64)> {
+    fn pick_entry(&self, x: DVec3, h: f64, normal: Normal, u: f64) -> Option<(usize, f64)> {
         let distribution = self.distribution.as_ref()?;
         let mut weights = [0.0; NEAR_MAX];
-        let total = self.near_weights(x, h, up, &mut weights);
+        let total = self.near_weights(x, h, normal, &mut weights);
         let share = if total > 0.0 && total.is_finite() {
             NEAR_SHARE
         } else {
@@ -907,11 +936,10 @@ impl Integrator {
         share * near + (1.0 - share) * global
     }
 
-    /// The probability of `pick_entry` at (x, h) with normal's vertical part `up` choosing
-    /// `index`.
-    fn pmf_at(&self, x: DVec3, h: f64, up: f64, index: usize) -> f64 {
+    /// The probability of `pick_entry` at (x, h) with unit normal `normal` choosing `index`.
+    fn pmf_at(&self, x: DVec3, h: f64, normal: Normal, index: usize) -> f64 {
         let mut weights = [0.0; NEAR_MAX];
-        let total = self.near_weights(x, h, up, &mut weights);
+        let total = self.near_weights(x, h, normal, &mut weights);
         let share = if total > 0.0 && total.is_finite() {
             NEAR_SHARE
         } else {
@@ -992,8 +1020,9 @@ impl Integrator {
 
     /// Follows a ray through mirrors for at most `length`, not meeting light `skip`.
     ///
-    /// With `roulette` (a sampler and the luminance of the path's throughput so far), a path
-    /// whose throughput falls below `ROULETTE_LEVEL` after a mirror goes on with probability
+    /// With `roulette` (a sampler, the luminance of the path's throughput so far, and a level:
+    /// `ROULETTE_LEVEL` or `FOOTPRINT_ROULETTE_LEVEL`), a path
+    /// whose throughput falls below the level after a mirror goes on with probability
     /// ∝ its throughput and is weighted up when it does (Russian roulette: unbiased, and long
     /// chains of dim reflections stop early).
     ///
@@ -1007,7 +1036,7 @@ impl Integrator {
         ray: &Ray,
         length: f64,
         skip: Option<usize>,
-        mut roulette: Option<(&mut Sampler, f64)>,
+        mut roulette: Option<(&mut Sampler, f64, f64)>,
         footprint: Option<&Footprint>,
         visibility_only: bool,
     ) -> March {
@@ -1062,10 +1091,10 @@ impl Integrator {
                 return march;
             };
             march.throughput = mul(march.throughput, reflectance);
-            if let Some((sampler, beta)) = roulette.as_mut() {
+            if let Some((sampler, beta, level)) = roulette.as_mut() {
                 let carried = *beta * luminance(march.throughput);
-                if carried < ROULETTE_LEVEL {
-                    let survive = carried / ROULETTE_LEVEL;
+                if carried < *level {
+                    let survive = carried / *level;
                     if survive.is_nan()
                         || survive <= 0.0
                         || sampler.next_independent_f64() >= survive
@@ -1231,8 +1260,8 @@ impl Integrator {
     ) -> Rgb {
         let space = self.space();
         let wo = sides.wo;
-        let up = shading.normal().z;
-        let Some((index, pmf)) = self.pick_entry(x, h, up, sampler.next_f64()) else {
+        let normal = Normal::new(frame, shading.normal());
+        let Some((index, pmf)) = self.pick_entry(x, h, normal, sampler.next_f64()) else {
             return [0.0; 3];
         };
         let entry = self.entries[index];
@@ -1315,7 +1344,7 @@ impl Integrator {
     /// the walls of `march.chain`.
     fn light_pdf(
         &self,
-        (x, h, up): (DVec3, f64, f64),
+        (x, h, normal): (DVec3, f64, Normal),
         light: usize,
         triangle: u32,
         w: [f64; 3],
@@ -1337,7 +1366,7 @@ impl Integrator {
         let from = (!long_way).then(|| (self.images.images[image].inverse * x, h));
         let pdf_area = self.lights[light].pdf_area(space, triangle, w, from);
         let j = spread(space, march.length, sigma);
-        self.pmf_at(x, h, up, index) * pdf_area * j / cos_out.abs().max(1e-12)
+        self.pmf_at(x, h, normal, index) * pdf_area * j / cos_out.abs().max(1e-12)
     }
 
     /// The radiance arriving along a camera ray (one path sample).
@@ -1390,15 +1419,20 @@ impl Integrator {
         // The previous scattering: specular (or the camera), and its BSDF pdf.
         let mut specular = true;
         let mut pdf_bsdf = 0.0;
-        let mut previous = (DVec3::ZERO, 0.0, 0.0);
+        let mut previous = (DVec3::ZERO, 0.0, Normal::default());
         let mut depth = 0;
         // The camera path's first diffuse surface, while its estimate for the cache is traced.
         let mut pending: Option<Pending> = None;
         let mut previous_diffuse = false;
         loop {
-            let roulette = Some((&mut *sampler, luminance(beta)));
             // The pixel's footprint is carried from the camera through mirrors only.
             let carried = footprint.as_ref().filter(|_| first.is_none());
+            let level = if carried.is_some() {
+                FOOTPRINT_ROULETTE_LEVEL
+            } else {
+                ROULETTE_LEVEL
+            };
+            let roulette = Some((&mut *sampler, luminance(beta), level));
             let march = self.march(&ray, f64::INFINITY, None, roulette, carried, false);
             add(&mut radiance, mul(beta, march.glimpsed));
             beta = mul(beta, march.throughput);
@@ -1520,7 +1554,7 @@ impl Integrator {
             specular = sample.delta;
             previous_diffuse = matches!(bsdf, Bsdf::Diffuse { .. });
             pdf_bsdf = sample.pdf;
-            previous = (x, h, normal.z);
+            previous = (x, h, Normal::new(&frame, normal));
             if depth >= 3 {
                 let survive = luminance(beta).clamp(0.05, 1.0);
                 if sampler.next_f64() >= survive {
@@ -1691,10 +1725,12 @@ mod tests {
                     integrator.centre,
                     space.transport(DVec3::Z, integrator.centre, v),
                 );
-                let (h, up) = (u(), 2.0 * u() - 1.0);
+                let h = u();
+                let local = DVec3::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize();
+                let normal = Normal::new(&TangentFrame::at(space, x), local);
                 let (mut a, mut b) = ([0.0; NEAR_MAX], [0.0; NEAR_MAX]);
-                let total_a = integrator.near_weights(x, h, up, &mut a);
-                let total_b = integrator.near_weights_portable(x, h, up, &mut b);
+                let total_a = integrator.near_weights(x, h, normal, &mut a);
+                let total_b = integrator.near_weights_portable(x, h, normal, &mut b);
                 assert_eq!(total_a.to_bits(), total_b.to_bits(), "{signature}");
                 assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{signature}");
                 assert!(total_a > 0.0, "{signature}");

@@ -9,8 +9,8 @@ use orbifold_scene::{Coordinates, LightKind, Material, Scene};
 
 /// A room of `signature` whose walls are all mirrors, with a small sphere light near the
 /// ceiling, seen by a camera that looks along the room so that the light's images shrink below
-/// a pixel towards the horizon.
-fn scene(signature: &str) -> Scene {
+/// a pixel towards the horizon (with a field of view `fov` degrees wide, pitched up `pitch`).
+fn scene(signature: &str, fov: f64, pitch: f64) -> Scene {
     let mut scene = Scene::default();
     scene.orbifold.signature = signature.into();
     scene.objects.clear();
@@ -25,8 +25,8 @@ fn scene(signature: &str) -> Scene {
     light.power = 10.0;
     scene.camera.at = [c[0] + 0.05, c[1] + 0.03];
     scene.camera.height = 0.5;
-    scene.camera.pitch = 5.0;
-    scene.camera.fov = 60.0;
+    scene.camera.pitch = pitch;
+    scene.camera.fov = fov;
     scene
 }
 
@@ -62,31 +62,46 @@ fn pixels(scene: &Scene, size: u32, n: u64, footprint: bool) -> Vec<(f64, f64)> 
         .collect()
 }
 
+/// Renders `scene` both ways and checks that the means agree within their noise and that the
+/// footprint removes at least half the variance summed over pixels.
+fn check_mean_kept_and_noise_lost(signature: &str, scene: &Scene) {
+    let (size, n) = (6, 512);
+    let hits = pixels(scene, size, n, false);
+    let covered = pixels(scene, size, n, true);
+    let total = |p: &[(f64, f64)]| p.iter().map(|(m, _)| m).sum::<f64>();
+    let error = |p: &[(f64, f64)]| (p.iter().map(|(_, v)| v).sum::<f64>() / n as f64).sqrt();
+    let (a, ea) = (total(&hits), error(&hits));
+    let (b, eb) = (total(&covered), error(&covered));
+    assert!(a > 0.0, "{signature}: the light is seen");
+    assert!(
+        (a - b).abs() < 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * a,
+        "{signature}: hits {a} ± {ea}, footprint {b} ± {eb}"
+    );
+    // The variance summed over pixels: the images' hit-or-miss noise is gone.
+    let variance = |p: &[(f64, f64)]| p.iter().map(|(_, v)| v).sum::<f64>();
+    assert!(
+        variance(&covered) < 0.5 * variance(&hits),
+        "{signature}: variance {} with the footprint, {} without",
+        variance(&covered),
+        variance(&hits)
+    );
+}
+
 #[test]
 fn tiny_light_images_keep_the_image_s_mean_and_lose_their_noise() {
     // Euclidean and hyperbolic rooms (a spherical room has few, large images).
     for signature in ["*2222", "*444"] {
-        let scene = scene(signature);
-        let (size, n) = (6, 512);
-        let hits = pixels(&scene, size, n, false);
-        let covered = pixels(&scene, size, n, true);
-        let total = |p: &[(f64, f64)]| p.iter().map(|(m, _)| m).sum::<f64>();
-        let error = |p: &[(f64, f64)]| (p.iter().map(|(_, v)| v).sum::<f64>() / n as f64).sqrt();
-        let (a, ea) = (total(&hits), error(&hits));
-        let (b, eb) = (total(&covered), error(&covered));
-        assert!(a > 0.0, "{signature}: the light is seen");
-        assert!(
-            (a - b).abs() < 4.0 * (ea * ea + eb * eb).sqrt() + 0.01 * a,
-            "{signature}: hits {a} ± {ea}, footprint {b} ± {eb}"
-        );
-        // The variance summed over pixels: the images' hit-or-miss noise is gone.
-        let variance = |p: &[(f64, f64)]| p.iter().map(|(_, v)| v).sum::<f64>();
-        assert!(
-            variance(&covered) < 0.5 * variance(&hits),
-            "{signature}: variance {} with the footprint, {} without",
-            variance(&covered),
-            variance(&hits)
-        );
+        check_mean_kept_and_noise_lost(signature, &scene(signature, 60.0, 5.0));
+    }
+}
+
+#[test]
+fn light_images_a_few_pixels_wide_keep_their_mean_and_lose_the_noise_of_their_rims() {
+    // Pixels of 2°: the near images of the light are 2-6 pixels wide, counted by the share of
+    // the footprint that their disc covers rather than hit or missed.
+    for signature in ["*2222", "*444"] {
+        let scene = scene(signature, 12.0, 8.0);
+        check_mean_kept_and_noise_lost(signature, &scene);
     }
 }
 
@@ -104,7 +119,7 @@ fn an_image_of_a_checkerboard_is_filtered_like_the_checkerboard() {
         image::Rgb(if (i + j) % 2 == 1 { [255; 3] } else { [0; 3] })
     });
     image.save(&path).unwrap();
-    let mut checker = scene("*2222");
+    let mut checker = scene("*2222", 60.0, 5.0);
     checker.camera.pitch = -10.0;
     checker.room.floor = Material::Checker {
         colors: [[1.0; 3], [0.0; 3]],
