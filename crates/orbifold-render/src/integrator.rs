@@ -402,7 +402,8 @@ const NEAR_MAX: usize = 96;
 const NEAR_SHARE: f64 = 0.5;
 /// Per-point weights treat nothing as closer than this (intrinsic units).
 const NEAR_CLAMP: f64 = 0.05;
-/// Per-point weights use at least this cosine (the bound is rough off the floor and ceiling).
+/// Per-point weights use at least this cosine (a light has a size: part of it can be above the
+/// surface's horizon while its centre is below).
 const COSINE_FLOOR: f64 = 0.05;
 
 /// A surface normal as the per-point light weights use it: its horizontal part (an ambient
@@ -1699,6 +1700,53 @@ mod tests {
             let filtered = box_filtered_square_wave(x, w);
             prop_assert!((filtered - mean).abs() < 1e-3 + 2e-4 / w.max(1e-9), "{} vs {}", filtered, mean);
             prop_assert!((-1.0..=1.0).contains(&filtered));
+        }
+    }
+
+    proptest! {
+        /// The per-point weights' cosine is the true one: on a face whose normal is level, at
+        /// the light's height, turning the face round divides each image's weight by the cosine
+        /// towards it and multiplies it by the cosine away from it (each at least the floor).
+        /// The cosine comes from the geodesic's initial direction, `Space::log`, here.
+        #[test]
+        fn light_weights_face_the_images_in_front(
+            g in 0usize..3, a in -0.3f64..0.3, b in -0.3f64..0.3, turn in 0.0f64..std::f64::consts::TAU,
+        ) {
+            let signature = ["*235", "*2222", "*2223"][g];
+            let mut scene = orbifold_scene::Scene::default();
+            scene.orbifold.signature = signature.into();
+            scene.lights[0].kind = orbifold_scene::LightKind::Sphere;
+            let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+            let space = integrator.space();
+            let x = space.exp(
+                integrator.centre,
+                space.transport(DVec3::Z, integrator.centre, DVec3::new(a, b, 0.0)),
+            );
+            let frame = TangentFrame::at(space, x);
+            let local = DVec3::new(turn.cos(), turn.sin(), 0.0);
+            let h = integrator.near_images.height[0];
+            let (mut front, mut back) = ([0.0; NEAR_MAX], [0.0; NEAR_MAX]);
+            integrator.near_weights_portable(x, h, Normal::new(&frame, local), &mut front);
+            integrator.near_weights_portable(x, h, Normal::new(&frame, -local), &mut back);
+            let images = &integrator.near_images;
+            let (n_h, _) = frame.to_ambient(local);
+            for i in 0..images.x.len().min(NEAR_MAX) {
+                let y = DVec3::new(images.x[i], images.y[i], images.z[i]);
+                let v = space.log(x, y);
+                let sigma = space.point_dot(v, v).max(0.0).sqrt();
+                prop_assume!(sigma > 1e-6 && (images.height[i] - h).abs() < 1e-12);
+                let mut cosine = space.point_dot(n_h, v) / sigma;
+                if images.long_way[i] == 1.0 {
+                    cosine = -cosine;
+                }
+                let clamp = |c: f64| c.clamp(COSINE_FLOOR, 1.0);
+                let expected = clamp(cosine) / clamp(-cosine);
+                let ratio = front[i] / back[i];
+                prop_assert!(
+                    (ratio / expected - 1.0).abs() < 1e-6,
+                    "{signature}, image {i}: {ratio} against {expected}"
+                );
+            }
         }
     }
 
