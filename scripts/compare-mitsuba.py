@@ -4,8 +4,9 @@
 A peer-renderer check of the light transport: the room is exported with `orbifold room` (at
 its true size: export coordinates are twice the model's, docs/room.md) and read as the renderer
 reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
-meshes with the exported normals: colours, checkerboards (floor, ceiling and walls) and image
-textures become `diffuse` (over our texture coordinates, docs/scene-format.md), mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
+meshes with the exported normals: colours, checkerboards and image textures become `diffuse`
+(over our texture coordinates, docs/scene-format.md; an object's solid checkerboard through a
+small Python texture, `solid_checker`), mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
 `roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
 `nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
 become the same 352-triangle Lambertian polyhedron, rectangle lights rectangles facing the same
@@ -233,14 +234,70 @@ def texture_coordinates(scene, where, group, material, positions):
     return np.concatenate([xy, positions[:, 2:3]], axis=1)
 
 
+def on_a_surface_of_the_room(where, group):
+    return where in ("room.floor", "room.ceiling") or group.startswith("wall_")
+
+
+def solid_checker(scene, where, group, material):
+    """On an object ours is a solid checker: colour ⌊p₀/size⌋ + ⌊p₁/size⌋ + ⌊p₂/size⌋ mod 2 of
+    the texture coordinates p, affine in the position (`texture_coordinates`). Mitsuba has no
+    solid texture: `solid_checker` (registered by `register_solid_checker`) evaluates ours at
+    the hit's position, with the affine map read off three points."""
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    t = texture_coordinates(scene, where, group, material, points)
+    linear = (t[1:] - t[0]).T
+    if not np.allclose(linear, np.diag(np.diag(linear)), atol=1e-12):
+        sys.exit(f"error: {where}: texture coordinates that mix the axes")
+    (a, b), colours = material["colors"], {}
+    for name, colour in (("color0", a), ("color1", b)):
+        for channel, value in zip("rgb", colour):
+            colours[f"{name}_{channel}"] = float(value)
+    return {"type": "solid_checker", "size": float(material["size"]),
+            **{f"scale_{axis}": float(linear[i, i]) for i, axis in enumerate("xyz")},
+            **{f"offset_{axis}": float(t[0, i]) for i, axis in enumerate("xyz")}, **colours}
+
+
+def register_solid_checker(mi):
+    """Registers `solid_checker`: a Mitsuba texture that is our solid checkerboard of objects
+    (`solid_checker`), evaluated at the hit's world position (Dr.Jit arithmetic, so that it
+    runs in the scalar and the vectorised variants alike)."""
+    import drjit as dr
+
+    class SolidChecker(mi.Texture):
+        def __init__(self, props):
+            mi.Texture.__init__(self, props)
+            self.size = props["size"]
+            self.scale = [props[f"scale_{a}"] for a in "xyz"]
+            self.offset = [props[f"offset_{a}"] for a in "xyz"]
+            self.colours = [mi.Color3f(*(props[f"color{k}_{c}"] for c in "rgb")) for k in (0, 1)]
+
+        def eval(self, si, active=True):
+            parity = 0
+            for i, x in enumerate((si.p.x, si.p.y, si.p.z)):
+                parity = parity + dr.floor((x * self.scale[i] + self.offset[i]) / self.size)
+            odd = parity - 2.0 * dr.floor(0.5 * parity) > 0.5
+            return dr.select(odd, self.colours[1], self.colours[0])
+
+        def eval_1(self, si, active=True):
+            return mi.luminance(self.eval(si, active))
+
+        def mean(self):
+            return 0.5 * (mi.luminance(self.colours[0]) + mi.luminance(self.colours[1]))
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return "SolidChecker[our solid checkerboard of objects]"
+
+    mi.register_texture("solid_checker", lambda props: SolidChecker(props))
+
+
 def checker_uv(scene, where, group, material, positions):
     """Mitsuba's checkerboard is color0 where ⌊2u⌋ + ⌊2v⌋ is even; ours takes colour
     ⌊p₀/size⌋ + ⌊p₁/size⌋ + ⌊p₂/size⌋ mod 2 of the texture coordinates p. On the floor, the
     ceiling and the walls the coordinate that Mitsuba's two lack is constant (the height; 0 on a
     wall), so u, v = p / (2 size) with the colours swapped when that constant's square is odd."""
-    if not (where in ("room.floor", "room.ceiling") or group.startswith("wall_")):
-        sys.exit(f"error: {where}: checkerboards are compared on the floor, ceiling and walls "
-                 "only (on an object ours is a solid 3D checker)")
     size = material["size"]
     p = texture_coordinates(scene, where, group, material, positions)
     if group.startswith("wall_"):
@@ -313,6 +370,9 @@ def mitsuba_bsdf(scene, scene_dir, group, mtl, positions):
     if kind == "glass":
         return {"type": "dielectric", "int_ior": material["ior"], "ext_ior": 1.0,
                 "specular_transmittance": rgb(material["tint"])}, None
+    if kind == "checker" and not on_a_surface_of_the_room(where, group):
+        texture = solid_checker(scene, where, group, material)
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, None
     if kind == "checker":
         uv, flipped = checker_uv(scene, where, group, material, positions)
         a, b = material["colors"][::-1] if flipped else material["colors"]
@@ -445,6 +505,7 @@ def main():
     import mitsuba as mi
     variant = args.variant or "scalar_rgb"
     mi.set_variant(variant)
+    register_solid_checker(mi)
 
     with tempfile.TemporaryDirectory() as tmp:
         report = json.loads(subprocess.run(
