@@ -202,7 +202,7 @@ pub struct ImageArgs {
     /// scene's `[render]` table).
     #[arg(long)]
     pub straight_rays: bool,
-    /// No pixel footprint: count the light's mirror images smaller than a pixel by ray hits
+    /// No pixel footprint: count the light's mirror images up to a few pixels wide by ray hits
     /// alone and point-sample checkerboards (noisier; for comparing with other renderers).
     #[arg(long)]
     pub no_footprint: bool,

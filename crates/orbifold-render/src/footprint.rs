@@ -95,10 +95,11 @@ pub struct Sphere {
 /// What a sphere light looks like to a camera ray along one straight stretch (between mirrors).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Glimpse {
-    /// The light's image is larger than the footprint there (or not near this stretch): ray hits
-    /// resolve it.
+    /// The light's image is more than [`GLIMPSE_WIDTHS`] footprints wide there (or not near
+    /// this stretch): ray hits resolve it.
     Unresolved,
-    /// The image is smaller than the footprint: this share of the footprint is the light.
+    /// The image is at most [`GLIMPSE_WIDTHS`] footprints wide: this share of the footprint is
+    /// the light.
     Covered(f64),
 }
 

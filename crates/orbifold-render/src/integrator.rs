@@ -65,8 +65,8 @@ pub struct Settings {
     /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
     pub straight_rays: bool,
     /// Carry each camera ray's pixel footprint ([`crate::footprint`]; on by default): the
-    /// light's mirror images smaller than a pixel count by the share of the pixel they cover,
-    /// not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
+    /// light's mirror images up to a few pixels wide count by the share of the pixel they
+    /// cover, not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
     /// Read the light that far mirror images of diffuse surfaces reflect, and the light that
@@ -548,11 +548,11 @@ struct March {
     ray: Ray,
     /// Arc length along `ray` to the end.
     rest: f64,
-    /// Light of sphere lights whose images were smaller than the footprint, passed on the way
+    /// Light of sphere lights whose images were counted by the footprint, passed on the way
     /// (with the mirrors' reflectances up to each).
     glimpsed: Rgb,
-    /// The sphere light the march ended on, when its image was smaller than the footprint:
-    /// already counted in `glimpsed`.
+    /// The sphere light the march ended on, when the footprint counted its image: already
+    /// counted in `glimpsed`.
     glimpsed_end: Option<usize>,
 }
 
@@ -1113,8 +1113,8 @@ impl Integrator {
         march
     }
 
-    /// Adds to `march.glimpsed` the sphere lights smaller than the footprint near the stretch of
-    /// `march.ray` up to `near` (or to `remaining`).
+    /// Adds to `march.glimpsed` the sphere lights whose images near the stretch of `march.ray`
+    /// up to `near` (or to `remaining`) are at most a few footprints wide.
     fn glimpse(
         &self,
         march: &mut March,
