@@ -161,6 +161,7 @@ fn footprint(c: &mut Criterion) {
     let footprint = Footprint {
         across: 2e-3,
         up: 2e-3,
+        centre: [0.0; 2],
     };
     for (name, geometry) in [
         ("S2", Geometry::Spherical),

@@ -79,8 +79,10 @@ impl Camera {
         self.ray_along(self.local_direction(u, v, width, height))
     }
 
-    /// The angular size of pixel (i, j): the angles between the directions through the middles
-    /// of its opposite sides (what [`crate::footprint`] carries along its rays).
+    /// The footprint of the ray through the point (i + dx, j + dy) of pixel (i, j), with
+    /// `offset` = (dx, dy) as for [`Camera::ray`]: the pixel's angular size — the angles between
+    /// the directions through the middles of its opposite sides — and where its centre is seen
+    /// relative to the ray (what [`crate::footprint`] carries along camera rays).
     ///
     /// ```
     /// use orbifold::{Geometry, space::Space};
@@ -89,17 +91,39 @@ impl Camera {
     /// let settings = Settings { fov: 90.0, ..Settings::default() };
     /// let camera = Camera::new(Space::new(Geometry::Euclidean), &settings);
     /// // At the middle of a 100×100 image a pixel is 2·tan 45°/100 radians wide, nearly.
-    /// let f = camera.footprint(50, 50, 100, 100);
+    /// let f = camera.footprint(50, 50, 100, 100, (0.5, 0.5));
     /// assert!((f.across - 0.02).abs() < 1e-4 && (f.up - 0.02).abs() < 1e-4);
+    /// assert!(f.centre[0].abs() < 1e-12 && f.centre[1].abs() < 1e-12);
+    /// // A ray through the pixel's lower right corner: its centre is up and to the left.
+    /// let f = camera.footprint(50, 50, 100, 100, (1.0, 1.0));
+    /// assert!((f.centre[0] - 0.01).abs() < 1e-3 && (f.centre[1] - 0.01).abs() < 1e-3);
     /// ```
-    pub fn footprint(&self, i: u32, j: u32, width: u32, height: u32) -> Footprint {
+    pub fn footprint(
+        &self,
+        i: u32,
+        j: u32,
+        width: u32,
+        height: u32,
+        offset: (f64, f64),
+    ) -> Footprint {
         let (w, h) = (f64::from(width), f64::from(height));
         let (u, v) = ((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
         let angle = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
         let at = |u: f64, v: f64| self.local_direction(u, v, width, height);
+        let (ray, centre) = (
+            at(u + (offset.0 - 0.5) / w, v + (offset.1 - 0.5) / h),
+            at(u, v),
+        );
+        let bearing = |d: DVec3| d.y.atan2(d.x);
+        let elevation = |d: DVec3| d.z.atan2(d.x.hypot(d.y));
+        let turn = (bearing(centre) - bearing(ray) + PI).rem_euclid(2.0 * PI) - PI;
         Footprint {
             across: angle(at(u - 0.5 / w, v), at(u + 0.5 / w, v)),
             up: angle(at(u, v - 0.5 / h), at(u, v + 0.5 / h)),
+            centre: [
+                turn * elevation(ray).cos(),
+                elevation(centre) - elevation(ray),
+            ],
         }
     }
 

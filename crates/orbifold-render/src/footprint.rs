@@ -6,11 +6,18 @@
 //! so a pixel that holds one gets a few rays of enormous radiance among many dark ones: the
 //! worst noise of the image, and too sparse for a denoiser. Instead each camera ray carries its
 //! pixel's footprint — a rectangle across the ray, one pixel wide — and a sphere light whose
-//! image is smaller than the footprint adds its radiance times the share of the footprint that
-//! the sphere covers ([`sphere_coverage`]), whether the ray's centre line hits it or not. The
-//! pixel's mean is the same (the light image is blurred by one more pixel, as a box filter
-//! would); its variance over the pixel's samples nearly vanishes. Larger images are left to the
-//! ray hits, which already resolve them.
+//! image is at most a few footprints wide adds its radiance times the share of the footprint
+//! that the sphere covers ([`sphere_coverage`]), whether the ray's centre line hits it or not.
+//! Larger images are left to the ray hits, which already resolve them.
+//!
+//! **Centred on the pixel.** The rectangle is the pixel's own: each ray carries the turns that
+//! lead from it to its pixel's centre ([`Footprint::centre`]), which grow along the ray as the
+//! widths do and change sides at every mirror. So every sample of a pixel counts the same share
+//! — the pixel's box filter, exactly what its ray hits average to — and the samples' variance
+//! vanishes but for the rims that hits hide behind an image. (A rectangle centred on each
+//! sample's ray keeps the image's total but blurs it over the neighbouring pixels too, and its
+//! share still varies with where the sample lies in the pixel.) A capped footprint (below) is
+//! narrower than its pixel and stays centred on the ray.
 //!
 //! **Widths.** Walls are totally geodesic and the vertical plane over a horizontal geodesic is
 //! flat, so a ray's neighbours separate like Jacobi fields of the two factors: a turn ε across
@@ -21,8 +28,8 @@
 //! and so meets only the light's images in the copies of the room that the ray crosses; and a
 //! ray that ends on the floor or the ceiling before it passes the light cannot count it. So the
 //! footprint is capped where it could reach past a wall, the floor or the ceiling: at twice
-//! the light's clearance from them, less the light's diameter. The pixel's mean does not depend on
-//! the widths as long as they are at most the true spread of the pixel's rays (the covered
+//! the light's clearance from them, less the light's diameter. The image's total does not depend
+//! on the widths as long as they are at most the true spread of the pixel's rays (the covered
 //! share integrates to the light's area over the footprint's); capped widths only leave more
 //! variance.
 //!
@@ -44,7 +51,7 @@ use crate::geodesic::Ray;
 /// ```
 /// use orbifold::{Geometry, space::Space};
 /// use orbifold_render::footprint::Footprint;
-/// let footprint = Footprint { across: 1e-3, up: 1e-3 };
+/// let footprint = Footprint { across: 1e-3, up: 1e-3, centre: [0.0; 2] };
 /// let e2 = Space::new(Geometry::Euclidean);
 /// // In flat space both widths grow linearly with distance.
 /// let (w, h) = footprint.widths(e2, 10.0, 0.8);
@@ -59,6 +66,12 @@ pub struct Footprint {
     pub across: f64,
     /// The pixel's height in the ray's vertical plane (radians).
     pub up: f64,
+    /// Where the pixel's centre is seen from the camera, relative to this ray: the turn across
+    /// (to the left, horizontally: the bearing's change times the cosine of the elevation) and
+    /// up (the elevation's change), in radians. Coverage is counted over the pixel itself, so
+    /// that every sample of a pixel counts a small light image alike ([`sphere_coverage`]);
+    /// zero for a footprint centred on the ray.
+    pub centre: [f64; 2],
 }
 
 impl Footprint {
@@ -74,6 +87,21 @@ impl Footprint {
             space.sin(sigma).abs() / ca
         };
         (self.across * spread, self.up * s)
+    }
+
+    /// The footprint after a mirror: a reflection swaps left and right, so the pixel's centre
+    /// is now on the other side of the ray.
+    ///
+    /// ```
+    /// use orbifold_render::footprint::Footprint;
+    /// let footprint = Footprint { across: 1e-3, up: 1e-3, centre: [2e-4, -1e-4] };
+    /// assert_eq!(footprint.reflected().centre, [-2e-4, -1e-4]);
+    /// ```
+    pub fn reflected(&self) -> Footprint {
+        Footprint {
+            centre: [-self.centre[0], self.centre[1]],
+            ..*self
+        }
     }
 }
 
@@ -168,7 +196,7 @@ fn below(a: f64, b: f64, y: f64, r: f64) -> f64 {
 /// use orbifold_render::geodesic::Ray;
 /// let e2 = Space::new(Geometry::Euclidean);
 /// let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
-/// let footprint = Footprint { across: 0.01, up: 0.01 };
+/// let footprint = Footprint { across: 0.01, up: 0.01, centre: [0.0; 2] };
 /// // A sphere of radius 0.01 ten units ahead, where the footprint is 0.1 wide: its disc
 /// // covers π·0.01²/0.1² of it.
 /// let centre = DVec3::new(10.0, 0.0, 1.0);
@@ -202,14 +230,28 @@ pub fn sphere_coverage(
     }
     let diameter = 2.0 * sphere.radius;
     let (across, up) = footprint.widths(space, travelled + s, ray.cos_elevation);
+    let caps = (
+        2.0 * sphere.clearance - diameter,
+        2.0 * sphere.headroom - diameter,
+    );
+    // Over the pixel itself, where it is all within the caps: the pixel's centre, seen along
+    // this ray, is where the turns `centre` take the ray at this distance (they scale as the
+    // widths do). A capped footprint is centred on the ray, as a smaller box filter.
+    let whole = across <= caps.0 && up <= caps.1;
+    let (centre_across, centre_up) = if whole {
+        let [turn_across, turn_up] = footprint.centre;
+        (
+            turn_across * across / footprint.across,
+            turn_up * up / footprint.up,
+        )
+    } else {
+        (0.0, 0.0)
+    };
     // (`f64::min` would turn a NaN width into the cap.)
     let (across, up) = if across.is_nan() || up.is_nan() {
         (0.0, 0.0)
     } else {
-        (
-            across.min(2.0 * sphere.clearance - diameter),
-            up.min(2.0 * sphere.headroom - diameter),
-        )
+        (across.min(caps.0), up.min(caps.1))
     };
     // A footprint with no width (a panorama's pole; a cap at a light touching a wall) or NaN
     // widths leaves the light to ray hits too.
@@ -217,7 +259,13 @@ pub fn sphere_coverage(
     if !positive || diameter > GLIMPSE_WIDTHS * across.max(up) {
         return Glimpse::Unresolved;
     }
-    let share = disc_in_rectangle(lateral, vertical, sphere.radius, across, up) / (across * up);
+    let (cx, cy) = (lateral - centre_across, vertical - centre_up);
+    let (cx, cy) = if cx.is_finite() && cy.is_finite() {
+        (cx, cy)
+    } else {
+        (lateral, vertical)
+    };
+    let share = disc_in_rectangle(cx, cy, sphere.radius, across, up) / (across * up);
     Glimpse::Covered(if share.is_finite() { share } else { 0.0 })
 }
 
@@ -300,7 +348,7 @@ mod tests {
             r in 0.001f64..0.05, distance in 1.0f64..20.0, pixel in 0.001f64..0.02,
         ) {
             let e2 = Space::new(Geometry::Euclidean);
-            let footprint = Footprint { across: pixel, up: pixel };
+            let footprint = Footprint { across: pixel, up: pixel, centre: [0.0; 2] };
             let width = pixel * distance;
             prop_assume!(2.0 * r <= GLIMPSE_WIDTHS * width);
             let n = 96;
@@ -349,6 +397,49 @@ mod tests {
             let tolerance = 2.0 * cell * (std::f64::consts::TAU * r) + 1e-9;
             prop_assert!((area - counted).abs() <= tolerance, "{} vs {} counted", area, counted);
             prop_assert!(area >= 0.0 && area <= (std::f64::consts::PI * r * r).min(w * h) + 1e-12);
+        }
+
+        /// A sample's footprint, centred on its pixel, counts a light image as the pixel's
+        /// centre ray does: the turns from the sample's ray to the pixel's centre, carried along
+        /// the ray as the widths are, land on the centre ray (to first order in the pixel's
+        /// size), in every geometry and at every elevation.
+        #[test]
+        fn a_footprint_counts_what_its_pixel_s_centre_ray_counts(
+            g in 0usize..3, yaw in 0.0f64..std::f64::consts::TAU, pitch in -0.5f64..0.5,
+            pixel in 1e-4f64..2e-3, distance in 0.3f64..1.5, off in (-1.5f64..1.5, -1.5f64..1.5),
+            dx in -0.5f64..0.5, dy in -0.5f64..0.5, radius in 0.2f64..3.0,
+        ) {
+            use num_complex::Complex64;
+            let space = Space::new(GEOMETRIES[g]);
+            let z = Complex64::new(0.1, -0.05);
+            let centre_ray = Ray::from_model(space, z, 0.5, yaw, pitch);
+            // The sample's ray, turned dx pixels to the left and dy up.
+            let turn = dx * pixel / pitch.cos();
+            let ray = Ray::from_model(space, z, 0.5, yaw + turn, pitch + dy * pixel);
+            let centred = Footprint { across: pixel, up: pixel, centre: [0.0; 2] };
+            let footprint = Footprint {
+                centre: [-turn * (pitch + dy * pixel).cos(), -dy * pixel],
+                ..centred
+            };
+            // A sphere `radius` pixels wide, `off` pixels beside the centre ray.
+            let width = pixel * distance;
+            let (q, h) = centre_ray.point_at(space, distance);
+            let left = space.quarter_turn(q, centre_ray.tangent_at(space, distance * centre_ray.cos_elevation));
+            let sphere = Sphere {
+                centre: space.exp(q, left * (off.0 * width)),
+                height: h + off.1 * width,
+                radius: radius * width,
+                clearance: f64::INFINITY,
+                headroom: f64::INFINITY,
+            };
+            let share = |ray: &Ray, footprint: &Footprint| {
+                match sphere_coverage(space, ray, 0.0, footprint, &sphere, 10.0, 0.0) {
+                    Glimpse::Covered(c) => c,
+                    Glimpse::Unresolved => f64::NAN,
+                }
+            };
+            let (a, b) = (share(&centre_ray, &centred), share(&ray, &footprint));
+            prop_assert!((a - b).abs() < 0.02, "centre ray {}, sample {}", a, b);
         }
 
         /// The closest approach found in every geometry is the true one: at the arc length
@@ -408,6 +499,7 @@ mod tests {
         Footprint {
             across: width,
             up: width,
+            centre: [0.0; 2],
         }
     }
 
@@ -432,7 +524,11 @@ mod tests {
     fn a_footprint_without_width_leaves_the_light_to_ray_hits() {
         let (e2, ray, sphere) = level(10.0, 0.01);
         for across in [0.0, f64::NAN] {
-            let footprint = Footprint { across, up: 0.1 };
+            let footprint = Footprint {
+                across,
+                up: 0.1,
+                centre: [0.0; 2],
+            };
             let glimpse = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 20.0, 0.0);
             assert_eq!(glimpse, Glimpse::Unresolved, "{footprint:?}");
         }

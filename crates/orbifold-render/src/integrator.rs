@@ -1042,6 +1042,8 @@ impl Integrator {
         visibility_only: bool,
     ) -> March {
         let space = self.space();
+        // The footprint as it is carried: mirrors swap left and right.
+        let mut carried = footprint.copied();
         let mut march = March {
             end: MarchEnd::Lost,
             throughput: [1.0; 3],
@@ -1066,7 +1068,7 @@ impl Integrator {
             } else {
                 self.nearest(&march.ray, skip).filter(|n| n.s < remaining)
             };
-            if let Some(footprint) = footprint {
+            if let Some(footprint) = &carried {
                 self.glimpse(&mut march, footprint, near.as_ref(), remaining);
             }
             let Some(near) = near else {
@@ -1106,6 +1108,7 @@ impl Integrator {
                 }
             }
             let form = self.tracer.room.wall_form_at(wall, near.point);
+            carried = carried.map(|f| f.reflected());
             march.chain *= reflection_matrix(space, form);
             march.length += near.s;
             march.ray = march.ray.advanced(space, near.s).reflected(space, form);
@@ -1796,10 +1799,12 @@ mod tests {
         let square = Footprint {
             across: 1e-3,
             up: 1e-3,
+            centre: [0.0; 2],
         };
         let wide = Footprint {
             across: 2e-3,
             up: 1e-3,
+            centre: [0.0; 2],
         };
         let e2 = Space::new(orbifold::Geometry::Euclidean);
         for pixel in [square, wide] {

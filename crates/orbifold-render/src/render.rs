@@ -295,7 +295,7 @@ impl<'a> Progressive<'a> {
             let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(index));
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
-            let footprint = camera.footprint(i, j, width, height);
+            let footprint = camera.footprint(i, j, width, height, offset);
             integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
