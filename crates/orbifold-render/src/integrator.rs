@@ -603,6 +603,10 @@ struct Pending {
     before: Rgb,
     /// The throughput times the albedo there.
     weight: Rgb,
+    /// What the radiance cache holds for the surface, times `weight`, when the path probes a
+    /// ready cell: the pixel takes it like any other read, and the path's own estimate only
+    /// feeds the cache.
+    read: Option<Rgb>,
 }
 
 impl Pending {
@@ -1402,9 +1406,10 @@ impl Integrator {
     /// read from the cache instead of traced; so is the light reflected by a diffuse surface
     /// that the path reaches from a diffuse bounce, over a width of
     /// [`radiance_cache::DIFFUSE_SPREAD`] times the distance, where the path may still take
-    /// [`radiance_cache::DEPTH_LEFT_FOR_READS`] scatterings (in both cases except for a
-    /// [`radiance_cache::PROBE`] share of such paths). A path that traces its first diffuse
-    /// surface in full returns its estimate there as a [`Deposit`] for the cache.
+    /// [`radiance_cache::DEPTH_LEFT_FOR_READS`] scatterings. A path that traces its first diffuse
+    /// surface in full returns its estimate there as a [`Deposit`] for the cache: those that
+    /// could not read it, and a [`radiance_cache::PROBE`] share of those that could, which take
+    /// the cache's value all the same.
     pub fn sample_pixel_cached(
         &self,
         ray: &Ray,
@@ -1498,8 +1503,8 @@ impl Integrator {
                 });
             }
             // Light from the radiance cache: all the light that a far image, or a surface reached
-            // by a diffuse bounce, reflects (except for a probed share of such paths, traced on
-            // in full so that a cell's neighbourhood keeps being checked).
+            // by a diffuse bounce, reflects. (A probed share of the camera's first surfaces is
+            // traced on in full all the same, only to keep their cells growing.)
             if let (Some(cache), Bsdf::Diffuse { albedo }) = (cache, bsdf)
                 && depth < self.settings.max_depth
             {
@@ -1515,18 +1520,25 @@ impl Integrator {
                 };
                 let (facing, cached) = self.cached(cache, x, h, &frame, geometric, width, sampler);
                 let weight = mul(beta, albedo);
+                // Only the camera's first surface deposits estimates, so only there do probes
+                // feed the cache.
+                let depositable = depth == 0 && albedo.iter().all(|&a| a > 1e-3);
+                let probe = cached.is_some()
+                    && depositable
+                    && sampler.next_independent_f64() < radiance_cache::PROBE;
                 match cached {
-                    Some(cached) if sampler.next_independent_f64() >= radiance_cache::PROBE => {
+                    Some(cached) if !probe => {
                         add(&mut radiance, mul(weight, cached));
                         break;
                     }
-                    _ if depth == 0 && albedo.iter().all(|&a| a > 1e-3) => {
+                    _ if depositable => {
                         pending = Some(Pending {
                             point: x,
                             height: h,
                             facing,
                             before: radiance,
                             weight,
+                            read: cached.map(|c| mul(weight, c)),
                         });
                     }
                     _ => {}
@@ -1571,7 +1583,16 @@ impl Integrator {
             }
             ray = frame.ray(space, x, h, wi).advanced(space, RAY_EPSILON);
         }
-        let deposit = pending.map(|p| p.deposit(radiance));
+        let deposit = pending.as_ref().map(|p| p.deposit(radiance));
+        if let Some(Pending {
+            before,
+            read: Some(read),
+            ..
+        }) = pending
+        {
+            radiance = before;
+            add(&mut radiance, read);
+        }
         PathSample {
             deposit,
             rays: rays_so_far().wrapping_sub(rays_before),

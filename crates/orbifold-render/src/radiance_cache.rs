@@ -29,8 +29,13 @@
 //! A render fills the cache from its own paths: after each round the estimates of the paths
 //! that traced their first diffuse surface in full are added in pixel order (so an image is
 //! the same for a given seed whatever the number of threads). A cell is used once it holds
-//! [`READY`] estimates; a fraction [`PROBE`] of the paths that could use it trace in full
-//! anyway and keep it growing.
+//! [`READY`] estimates; a fraction [`PROBE`] of the camera paths whose first surface could use
+//! it trace that surface in full anyway to keep it growing, while their pixels take the cell's
+//! value like the others (a full estimate there would only add its noise to the pixel's).
+//!
+//! A cell's mean is shared by every sample that reads it, so its noise is the same in all of
+//! them: it does not show in the pixels' standard errors, only between renders with different
+//! seeds (as the Table 8.1 measurements take it).
 //!
 //! ```
 //! use glam::DVec3;
@@ -67,7 +72,8 @@ pub const READY: u32 = 4;
 /// spread, per unit of distance travelled (a cone of about ±6°: the narrowest part of a
 /// Lambertian lobe that still carries much of its light).
 pub const DIFFUSE_SPREAD: f64 = 0.2;
-/// The share of the paths that could use the cache but trace in full (and add to it).
+/// The share of the camera paths whose first surface could read the cache that trace it in
+/// full anyway, to add to it (their pixels read the cache all the same).
 pub const PROBE: f64 = 0.1;
 /// The fewest scatterings a path must still be allowed (the maximum depth less its depth) to
 /// read the cache after a bounce. The cache holds the light of paths with the whole maximum

@@ -161,7 +161,13 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
     // The cache replaces far and indirect light by the mean of earlier paths' estimates over a
     // cell no wider than the light's spread there: a blur below the pixel, not a change of
     // brightness. Blocks of 4×4 pixels of a 24×16 image agree with the full estimate within
-    // 5 % (and 4 standard errors), and the whole image within 2 %.
+    // 5 % (and 4 standard errors), and the whole image within 0.6 % (0.2 % apart here; a cache
+    // 10 % too bright is 1.4 % too bright in `*235`).
+    //
+    // A cell's mean is shared by every sample that reads it, so the cache's noise is not in
+    // the pixels' standard errors: the cached image is rendered with several seeds (several
+    // caches), and the spread of a block over them is its error.
+    const SEEDS: [u64; 6] = [3, 5, 7, 9, 11, 13];
     for signature in ["*235", "*2222", "*2223"] {
         let scene = scene_with_objects(signature);
         // Deep paths: the cache holds light of up to max_depth bounces *after* the surface it
@@ -170,7 +176,10 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
             max_depth: 20,
             ..settings
         };
-        let cached = sized_image(&scene, deep(cached(true)), (24, 16), 64, 3);
+        let cached: Vec<Film> = SEEDS
+            .iter()
+            .map(|&seed| sized_image(&scene, deep(cached(true)), (24, 16), 64, seed))
+            .collect();
         let full = sized_image(&scene, deep(in_full(true)), (24, 16), 256, 4);
         let block = |film: &Film, bx: u32, by: u32| {
             let (mut mean, mut variance) = (0.0, 0.0);
@@ -185,7 +194,12 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
         let (mut total_cached, mut total_full) = (0.0, 0.0);
         for by in 0..4 {
             for bx in 0..6 {
-                let ((a, ea), (b, eb)) = (block(&cached, bx, by), block(&full, bx, by));
+                let means: Vec<f64> = cached.iter().map(|f| block(f, bx, by).0).collect();
+                let n = means.len() as f64;
+                let a = means.iter().sum::<f64>() / n;
+                let spread = means.iter().map(|m| (m - a).powi(2)).sum::<f64>() / (n - 1.0);
+                let ea = (spread / n).sqrt();
+                let (b, eb) = block(&full, bx, by);
                 total_cached += a;
                 total_full += b;
                 let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.05 * b;
@@ -196,7 +210,7 @@ fn the_radiance_cache_agrees_with_tracing_in_full() {
             }
         }
         assert!(
-            (total_cached - total_full).abs() < 0.02 * total_full,
+            (total_cached - total_full).abs() < 0.006 * total_full,
             "{signature}: cached {total_cached}, in full {total_full}"
         );
     }
