@@ -190,19 +190,23 @@ impl Texture {
                 size,
                 intrinsic: use_intrinsic,
             } => {
-                let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
-                let Some([a, b]) = lookup.footprint else {
+                let Some([centre, a, b]) = lookup.footprint else {
+                    let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
                     let parity: i64 = p.iter().map(|v| (v / size).floor() as i64).sum();
                     return colors[parity.rem_euclid(2) as usize];
                 };
-                let (pa, pb) = (
-                    (lookup.coords)(*use_intrinsic, a),
-                    (lookup.coords)(*use_intrinsic, b),
+                let (p, pa, pb) = (
+                    (lookup.coords)(*use_intrinsic, centre),
+                    (lookup.coords)(*use_intrinsic, centre + a),
+                    (lookup.coords)(*use_intrinsic, centre + b),
                 );
                 let mut sign = 1.0;
                 for i in 0..3 {
-                    // The box around ±a ± b in texture coordinates, axis by axis.
-                    let half = (pa[i] - p[i]).abs() + (pb[i] - p[i]).abs();
+                    // The box, axis by axis in texture coordinates, whose second moments are
+                    // the footprint's (the parallelogram ±a ± b around the pixel's centre): a
+                    // box around the whole parallelogram blurred footprints seen at an angle
+                    // to the checks over twice their area.
+                    let half = (pa[i] - p[i]).hypot(pb[i] - p[i]);
                     sign *= box_filtered_square_wave(p[i] / size, 2.0 * half / size);
                 }
                 let (c0, c1) = (colors[0], colors[1]);
@@ -213,16 +217,17 @@ impl Texture {
                 scale,
                 intrinsic: use_intrinsic,
             } => {
-                let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
-                let (u, v) = (p[0] / scale, p[1] / scale);
-                let Some([a, b]) = lookup.footprint else {
-                    return image.texel(u, v);
+                let Some([centre, a, b]) = lookup.footprint else {
+                    let p = (lookup.coords)(*use_intrinsic, DVec3::ZERO);
+                    return image.texel(p[0] / scale, p[1] / scale);
                 };
-                let (pa, pb) = (
-                    (lookup.coords)(*use_intrinsic, a),
-                    (lookup.coords)(*use_intrinsic, b),
+                let (p, pa, pb) = (
+                    (lookup.coords)(*use_intrinsic, centre),
+                    (lookup.coords)(*use_intrinsic, centre + a),
+                    (lookup.coords)(*use_intrinsic, centre + b),
                 );
-                let half = |i: usize| ((pa[i] - p[i]).abs() + (pb[i] - p[i]).abs()) / scale;
+                let (u, v) = (p[0] / scale, p[1] / scale);
+                let half = |i: usize| (pa[i] - p[i]).hypot(pb[i] - p[i]) / scale;
                 image.box_mean(u, v, half(0), half(1))
             }
         }
@@ -255,9 +260,10 @@ struct Lookup<'a> {
     /// The texture coordinates (intrinsic or model, as asked) of the point moved by a tangent
     /// vector (local frame; zero for the point itself).
     coords: &'a dyn Fn(bool, DVec3) -> [f64; 3],
-    /// For a camera ray's first surface: its pixel's footprint there, as two half-axes (local
-    /// frame) in the surface.
-    footprint: Option<[DVec3; 2]>,
+    /// For a camera ray's first surface: its pixel's footprint there, as the tangent vector
+    /// from the point to where the pixel's centre is seen and two half-axes (local frame), all
+    /// in the surface.
+    footprint: Option<[DVec3; 3]>,
 }
 
 /// A camera ray's pixel footprint where it meets its first surface.
@@ -265,6 +271,9 @@ struct Lookup<'a> {
 struct Spread {
     /// Widths across the ray and up (perpendicular to it in its vertical plane).
     widths: (f64, f64),
+    /// How far the pixel's centre is seen from the ray, across (to the left) and up: the
+    /// footprint's turns to it ([`Footprint::centre`]), grown as the widths have.
+    centre: (f64, f64),
     /// The ray's direction of travel (local frame).
     travel: DVec3,
     /// The widest cells of the radiance cache that the surface may read ([`Spread::cache_width`]).
@@ -276,8 +285,16 @@ impl Spread {
     /// direction `travel` there.
     fn new(space: Space, pixel: &Footprint, s: f64, cos_elevation: f64, travel: DVec3) -> Spread {
         let widths = pixel.widths(space, s, cos_elevation);
+        let grown = |turn: f64, width: f64, angle: f64| {
+            let d = turn * width / angle;
+            if d.is_finite() { d } else { 0.0 }
+        };
         Spread {
             widths,
+            centre: (
+                grown(pixel.centre[0], widths.0, pixel.across),
+                grown(pixel.centre[1], widths.1, pixel.up),
+            ),
             travel,
             cache_width: Spread::cache_width(pixel, widths),
         }
@@ -299,9 +316,12 @@ impl Spread {
         }
     }
 
-    /// The footprint's half-axes projected along the ray onto the plane with normal `n`, each
-    /// at most `MAX_FOOTPRINT` long (beyond, every pattern is averaged out anyway).
-    fn axes(&self, n: DVec3) -> [DVec3; 2] {
+    /// The tangent vector to where the pixel's centre is seen and the footprint's half-axes,
+    /// projected along the ray onto the plane with normal `n`, each at most `MAX_FOOTPRINT`
+    /// long (beyond, every pattern is averaged out anyway). Centred on the pixel, the box is
+    /// the same for every sample of it, up to the change of the projection across the pixel:
+    /// each sample gets the pixel's own filtered value, the one its ray hits average to.
+    fn axes(&self, n: DVec3) -> [DVec3; 3] {
         const MAX_FOOTPRINT: f64 = 10.0;
         let d = self.travel;
         let across = d.cross(DVec3::Z).try_normalize().unwrap_or(DVec3::X);
@@ -313,9 +333,13 @@ impl Spread {
             } else {
                 v
             };
+            // What rounding leaves along the normal, taken off: on the floor it would move
+            // the point a hair below height 0, onto the other side of a 3D checker's layer.
+            let p = p - n * n.dot(p);
             p.clamp_length_max(MAX_FOOTPRINT)
         };
         [
+            project(up * self.centre.1 - across * self.centre.0),
             project(across * (0.5 * self.widths.0)),
             project(up * (0.5 * self.widths.1)),
         ]
@@ -1476,8 +1500,15 @@ impl Integrator {
                 add(&mut radiance, scale(mul(beta, emitted), weight));
                 break;
             }
-            let spread = carried
-                .map(|f| Spread::new(space, f, march.length, march.ray.cos_elevation, travel));
+            // An odd number of mirrors has swapped left and right (as the march's own copy).
+            let spread = carried.map(|f| {
+                let f = if march.chain.determinant() < 0.0 {
+                    f.reflected()
+                } else {
+                    *f
+                };
+                Spread::new(space, &f, march.length, march.ray.cos_elevation, travel)
+            });
             let Some((geometric, normal, bsdf)) = self.surface(&near, &frame, spread.as_ref())
             else {
                 break;
@@ -1851,10 +1882,21 @@ mod tests {
         let travel = DVec3::new(10f64.to_radians().cos(), 0.0, -10f64.to_radians().sin());
         let spread = Spread {
             widths: (0.02, 0.01),
+            centre: (0.004, 0.002),
             travel,
             cache_width: 0.01,
         };
-        let [a, b] = spread.axes(DVec3::Z);
+        let [centre, a, b] = spread.axes(DVec3::Z);
+        // The pixel's centre is seen 0.004 to the left (+y) and 0.002 up: on the floor, that
+        // is further along the ray.
+        assert!(
+            (centre.y - 0.004).abs() < 1e-12 && centre.z.abs() < 1e-12,
+            "{centre}"
+        );
+        assert!(
+            (centre.x - 0.002 / 10f64.to_radians().sin()).abs() < 1e-9,
+            "{centre}"
+        );
         assert!((a.length() - 0.01).abs() < 1e-12 && a.x.abs() < 1e-12 && a.z.abs() < 1e-12);
         let along = 0.005 / 10f64.to_radians().sin();
         assert!(
