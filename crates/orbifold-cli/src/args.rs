@@ -429,8 +429,8 @@ pub struct RoomArgs {
     #[arg(value_name = "SIG|SCENE")]
     pub input: String,
     /// The mesh file to write: `.obj` (with a `.mtl` and the textures' images beside it), `.ply`
-    /// (colours only) or `.glb` (images embedded); or `.svg` or `.png`, a picture of the floor's
-    /// tessellation.
+    /// (vertex colours, and texture coordinates with the images beside it) or `.glb` (images
+    /// embedded); or `.svg` or `.png`, a picture of the floor's tessellation.
     #[arg(long, short = 'o', value_name = "FILE")]
     pub output: std::path::PathBuf,
     /// The longest edge wanted, in intrinsic units (default: the scene's, 0.1).

@@ -583,3 +583,74 @@ fn the_closed_wall_of_star_runs_its_texture_once_round() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn ply_carries_texture_coordinates_and_names_its_images() {
+    let dir = temp_dir("ply-textures");
+    let scene = textured_scene(&dir);
+    let geometry = scene.geometry(Some(&dir)).unwrap();
+    let (groups, _) = geometry.groups(&[]);
+    let path = dir.join("room.ply");
+    let written = export(&groups, ExportFormat::Ply, &path, "test").unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let end = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .unwrap()
+        + 11;
+    let header = std::str::from_utf8(&bytes[..end]).unwrap();
+    // One `TextureFile` per image, written beside the PLY, in the order faces count them.
+    let images: Vec<&str> = header
+        .lines()
+        .filter_map(|l| l.strip_prefix("comment TextureFile "))
+        .collect();
+    assert_eq!(
+        images,
+        ["room-tiles.png", "room-checker-1.png", "room-checker-2.png"]
+    );
+    for name in &images {
+        assert!(written.contains(&dir.join(name)), "{name} in {written:?}");
+    }
+    for property in ["float s", "float t", "int texnumber"] {
+        assert!(
+            header.contains(&format!("property {property}\n")),
+            "{property}"
+        );
+    }
+    // The body: 35-byte vertices (position, normal, colour, s, t) and 21-byte faces.
+    let float = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let int = |at: usize| i32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let shaded: Vec<_> = groups.iter().map(smooth_normals).collect();
+    let vertices: usize = shaded.iter().map(|s| s.positions.len()).sum();
+    let mut face = end + 35 * vertices;
+    let mut base = 0;
+    for (g, (group, s)) in groups.iter().zip(&shaded).enumerate() {
+        let image = group.texture.as_ref().map(|_| match group.name.as_str() {
+            "ceiling" => 1,
+            "wall 0" => 2,
+            _ => 0,
+        });
+        for v in 0..s.positions.len() {
+            let at = end + 35 * (base + v) + 27;
+            let uv = s.uv.get(v).copied().unwrap_or([0.0; 2]);
+            assert!((f64::from(float(at)) - uv[0]).abs() < 1e-5);
+            assert!((f64::from(float(at + 4)) - uv[1]).abs() < 1e-5);
+        }
+        for t in &s.triangles {
+            assert_eq!(bytes[face], 3);
+            assert_eq!(int(face + 13), g as i32);
+            assert_eq!(int(face + 17), image.map_or(-1, |k| k), "{}", group.name);
+            for (k, &v) in t.iter().enumerate() {
+                assert_eq!(int(face + 1 + 4 * k), (base + v as usize) as i32);
+            }
+            face += 21;
+        }
+        base += s.positions.len();
+    }
+    assert_eq!(face, bytes.len());
+    // Readers that do not know the texture properties skip them: ours reads the mesh back.
+    let mesh = parse_mesh(&bytes, MeshFormat::Ply, None).unwrap();
+    let triangles: usize = groups.iter().map(|g| g.triangles.len()).sum();
+    assert_eq!(mesh.triangles.len(), triangles);
+    std::fs::remove_dir_all(dir).unwrap();
+}
