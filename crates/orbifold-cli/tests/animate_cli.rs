@@ -11,10 +11,12 @@ fn orbifold() -> Command {
     Command::cargo_bin("orbifold").unwrap()
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-animate-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A fresh folder for a test's files, removed when the test ends (also when it fails).
+fn temp() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("orbifold-animate-cli-")
+        .tempdir()
+        .unwrap()
 }
 
 /// Runs `animate` with `--json` and tiny frames; returns the JSON lines.
@@ -48,9 +50,12 @@ fn frames(dir: &PathBuf) -> Vec<String> {
 
 #[test]
 fn every_built_in_path_writes_its_frames() {
+    let tmp = temp();
     for path in ["walls", "orbit", "turn"] {
         for signature in ["*235", "*333", "*2223"] {
-            let dir = temp(&format!("{path}-{}", signature.trim_start_matches('*')));
+            let dir = tmp
+                .path()
+                .join(format!("{path}-{}", signature.trim_start_matches('*')));
             let lines = animate(&[
                 signature,
                 "--path",
@@ -75,7 +80,8 @@ fn every_built_in_path_writes_its_frames() {
 
 #[test]
 fn a_restart_skips_finished_frames_and_slices_add_up() {
-    let dir = temp("slices");
+    let tmp = temp();
+    let dir = tmp.path().join("slices");
     let out = dir.to_str().unwrap();
     let first = animate(&[
         "*2222", "--path", "walls", "--count", "5", "--frames", "0..1", "-o", out,
@@ -106,13 +112,14 @@ fn a_restart_skips_finished_frames_and_slices_add_up() {
 
 #[test]
 fn keyframes_and_a_walking_object() {
-    let keys = temp("keys.txt");
+    let tmp = temp();
+    let keys = tmp.path().join("keys.txt");
     std::fs::write(
         &keys,
         "# x y height yaw pitch\n-0.08 0 0.5 0 -10\n0.05, 0.05, 0.4, 90\n",
     )
     .unwrap();
-    let dir = temp("keys");
+    let dir = tmp.path().join("keys");
     let lines = animate(&[
         "*2223",
         "--path",
@@ -126,7 +133,7 @@ fn keyframes_and_a_walking_object() {
     ]);
     assert_eq!(lines.last().unwrap()["rendered"], 3);
     assert!(dir.join("frame-00002.jpg").is_file());
-    let dir = temp("walker");
+    let dir = tmp.path().join("walker");
     let lines = animate(&[
         "*333",
         "--path",
@@ -149,7 +156,8 @@ fn keyframes_and_a_walking_object() {
 
 #[test]
 fn bad_input_is_refused_before_any_frame() {
-    let dir = temp("refused");
+    let tmp = temp();
+    let dir = tmp.path().join("refused");
     let out = dir.to_str().unwrap();
     let cases: [(&[&str], &str); 6] = [
         (
@@ -170,7 +178,7 @@ fn bad_input_is_refused_before_any_frame() {
             .code(2)
             .stderr(predicate::str::contains(message));
     }
-    let keys = temp("outside.txt");
+    let keys = tmp.path().join("outside.txt");
     std::fs::write(&keys, "0 0 0.5 0\n5 5 0.5 0\n").unwrap();
     orbifold()
         .args([
@@ -184,7 +192,7 @@ fn bad_input_is_refused_before_any_frame() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains("leaves the room"));
-    let keys = temp("garbled.txt");
+    let keys = tmp.path().join("garbled.txt");
     std::fs::write(&keys, "0 0 0.5 0\n0 0 high 0\n").unwrap();
     orbifold()
         .args([

@@ -216,8 +216,11 @@ fn impossible_requests_exit_2_with_a_reason() {
 
 #[test]
 fn pictures_are_written_whole() {
-    let dir = std::env::temp_dir().join(format!("orbifold-layout-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-layout-test-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let svg = dir.join("room.svg");
     orbifold()
         .args(["layout", "*2333", "-o"])
@@ -245,13 +248,12 @@ fn pictures_are_written_whole() {
         .stderr(predicate::str::contains(".svg or .png"));
     assert!(!bad.exists());
     // No temporary files are left behind.
-    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+    let leftovers: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
         .collect();
     assert!(leftovers.is_empty());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn random_signature() -> impl Strategy<Value = String> {

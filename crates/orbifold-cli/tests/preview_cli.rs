@@ -4,7 +4,7 @@
 //! The preview needs a wgpu adapter (Mesa's lavapipe will do); without one these tests skip,
 //! unless ORBIFOLD_REQUIRE_GPU is set (as CI sets it).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use assert_cmd::Command;
 use serde_json::Value;
@@ -13,10 +13,12 @@ fn orbifold() -> Command {
     Command::cargo_bin("orbifold").unwrap()
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-preview-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A fresh folder for a test's files, removed when the test ends (also when it fails).
+fn temp() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("orbifold-preview-cli-")
+        .tempdir()
+        .unwrap()
 }
 
 /// Runs `orbifold preview ARGS --json`; `None` when there is no adapter and none is required.
@@ -41,7 +43,8 @@ fn preview(args: &[&str]) -> Option<Value> {
 
 #[test]
 fn previews_the_default_scene() {
-    let png = temp("default.png");
+    let tmp = temp();
+    let png = tmp.path().join("default.png");
     let Some(summary) = preview(&["-o", png.to_str().unwrap(), "--size", "96x64"]) else {
         return;
     };
@@ -62,7 +65,11 @@ fn previews_the_default_scene() {
 
 #[test]
 fn copies_follow_the_depth_and_straight_rays_change_the_picture() {
-    let (a, b) = (temp("curved.png"), temp("straight.png"));
+    let tmp = temp();
+    let (a, b) = (
+        tmp.path().join("curved.png"),
+        tmp.path().join("straight.png"),
+    );
     let common = ["*2222", "--depth", "3", "--size", "80x60", "--no-cull"];
     let Some(curved) = preview(&[&common[..], &["-o", a.to_str().unwrap()]].concat()) else {
         return;
@@ -91,7 +98,8 @@ fn fails_with_2(args: &[&str], output: &Path, message: &str) {
 
 #[test]
 fn bad_input_is_refused_before_anything_is_written() {
-    let png = temp("bad.png");
+    let tmp = temp();
+    let png = tmp.path().join("bad.png");
     let out = png.to_str().unwrap();
     fails_with_2(
         &["-o", &png.with_extension("gif").display().to_string()],

@@ -15,10 +15,12 @@ fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes")
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-render-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A fresh folder for a test's files, removed when the test ends (also when it fails).
+fn temp() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("orbifold-render-cli-")
+        .tempdir()
+        .unwrap()
 }
 
 fn render(args: &[&str]) -> Value {
@@ -38,7 +40,8 @@ fn render(args: &[&str]) -> Value {
 
 #[test]
 fn renders_the_default_scene_to_png() {
-    let png = temp("default.png");
+    let tmp = temp();
+    let png = tmp.path().join("default.png");
     let summary = render(&["-o", png.to_str().unwrap(), "--size", "24x16", "--spp", "2"]);
     assert_eq!(summary["width"], 24);
     assert_eq!(summary["samples"], 2);
@@ -60,8 +63,9 @@ fn renders_the_default_scene_to_png() {
 #[test]
 fn a_scene_file_renders_to_exr_and_a_seed_repeats() {
     let scene = scenes().join("fig-1.2-333.toml");
-    let a = temp("a.exr");
-    let b = temp("b.exr");
+    let tmp = temp();
+    let a = tmp.path().join("a.exr");
+    let b = tmp.path().join("b.exr");
     for path in [&a, &b] {
         render(&[
             scene.to_str().unwrap(),
@@ -98,7 +102,8 @@ fn a_scene_file_renders_to_exr_and_a_seed_repeats() {
 
 #[test]
 fn a_signature_and_the_time_limit() {
-    let png = temp("sig.png");
+    let tmp = temp();
+    let png = tmp.path().join("sig.png");
     let summary = render(&[
         "*2223",
         "-o",
@@ -117,7 +122,8 @@ fn a_signature_and_the_time_limit() {
 
 #[test]
 fn bad_input_is_a_clear_error_and_writes_nothing() {
-    let out = temp("never.png");
+    let tmp = temp();
+    let out = tmp.path().join("never.png");
     for (args, message) in [
         (vec!["*23"], "bad orbifold"),
         (vec!["*2223", "-o", "x.bmp"], ".png, .exr or .jpg"),
@@ -143,7 +149,8 @@ fn bad_input_is_a_clear_error_and_writes_nothing() {
 
 #[test]
 fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
-    let png = temp("denoised.png");
+    let tmp = temp();
+    let png = tmp.path().join("denoised.png");
     let summary = render(&[
         "*2223",
         "-o",
@@ -165,7 +172,7 @@ fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
         "--no-denoise",
     ]);
     assert_eq!(raw["denoised"], false);
-    let exr = temp("raw.exr");
+    let exr = tmp.path().join("raw.exr");
     let summary = render(&[
         "*2223",
         "-o",
@@ -198,8 +205,9 @@ fn denoising_is_the_default_for_png_and_jpeg_only_and_straight_rays_render() {
 #[test]
 fn a_scene_s_render_table_can_ask_for_straight_rays() {
     // fig-8.1-a-straight.toml is fig-1.2-444.toml with `straight_rays = true` in `[render]`.
+    let tmp = temp();
     let picture = |scene: &str, name: &str, flags: &[&str]| {
-        let out = temp(name);
+        let out = tmp.path().join(name);
         let path = scenes().join(scene);
         let mut args = vec![
             path.to_str().unwrap(),
@@ -226,9 +234,10 @@ fn a_scene_s_render_table_can_ask_for_straight_rays() {
 /// time with `flag`, and checks that the two images differ.
 fn assert_flag_changes_the_image(flag: &str, spp: u32) {
     let name = flag.trim_start_matches('-');
+    let tmp = temp();
     let (a, b) = (
-        temp(&format!("with-{name}.png")),
-        temp(&format!("{name}.png")),
+        tmp.path().join(format!("with-{name}.png")),
+        tmp.path().join(format!("{name}.png")),
     );
     let args = |out: &PathBuf| {
         vec![

@@ -5,10 +5,12 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("orbifold-room-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh, empty folder for a test's files, removed when the test ends (also when it fails).
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("orbifold-room-cli-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn orbifold() -> Command {
@@ -21,7 +23,8 @@ fn scenes() -> PathBuf {
 
 #[test]
 fn a_signature_becomes_an_obj_with_named_groups() {
-    let d = dir("sig");
+    let tmp = dir("sig");
+    let d = tmp.path();
     let file = d.join("room.obj");
     orbifold()
         .args(["room", "*2223", "-o"])
@@ -44,12 +47,12 @@ fn a_signature_becomes_an_obj_with_named_groups() {
     );
     let text = std::fs::read_to_string(&file).unwrap();
     assert!(text.contains("coordinates: 2 model x, 2 model y, height"));
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
 fn a_scene_with_cover_as_json() {
-    let d = dir("scene");
+    let tmp = dir("scene");
+    let d = tmp.path();
     let file = d.join("room.glb");
     let out = orbifold()
         .arg("room")
@@ -96,24 +99,24 @@ fn a_scene_with_cover_as_json() {
     assert!(names.contains(&"object 0") && names.contains(&"object 0 copies"));
     assert!(report["floor"]["triangles"].as_u64().unwrap() > 0);
     assert!(std::fs::metadata(&file).unwrap().len() > 1000);
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
 fn ideal_corners_report_their_cut() {
-    let d = dir("ideal");
+    let tmp = dir("ideal");
+    let d = tmp.path();
     orbifold()
         .args(["room", "*∞∞∞", "--cusp", "2.5", "-o"])
         .arg(d.join("r.ply"))
         .assert()
         .success()
         .stdout(predicate::str::contains("cut off at distance 2.5000"));
-    std::fs::remove_dir_all(d).unwrap();
 }
 
 #[test]
 fn bad_requests_fail_cleanly_and_write_nothing() {
-    let d = dir("bad");
+    let tmp = dir("bad");
+    let d = tmp.path();
     for (args, message) in [
         (
             vec!["room", "*2223", "-o", "room.stl"],
@@ -152,20 +155,20 @@ fn bad_requests_fail_cleanly_and_write_nothing() {
         ),
     ] {
         orbifold()
-            .current_dir(&d)
+            .current_dir(d)
             .args(&args)
             .assert()
             .code(2)
             .stderr(predicate::str::contains(message));
     }
-    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "nothing written");
-    std::fs::remove_dir_all(d).unwrap();
+    assert_eq!(std::fs::read_dir(d).unwrap().count(), 0, "nothing written");
 }
 
 #[test]
 fn texture_paths_stay_relative_to_the_scene_file() {
     // The peer scene's textures sit beside it; the test runs in another folder.
-    let d = dir("textures");
+    let tmp = dir("textures");
+    let d = tmp.path();
     let file = d.join("room.obj");
     let scene =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/peer/textures-2222.toml");
@@ -189,5 +192,4 @@ fn texture_paths_stay_relative_to_the_scene_file() {
             "room.height: the room's height must be",
         ));
     assert!(!d.join("bad.obj").exists());
-    std::fs::remove_dir_all(d).unwrap();
 }

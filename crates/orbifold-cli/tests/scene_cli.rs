@@ -5,8 +5,11 @@ use predicates::prelude::*;
 
 #[test]
 fn new_and_check() {
-    let dir = std::env::temp_dir().join(format!("orbifold-scene-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-scene-cli-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let file = dir.join("room.toml");
     Command::cargo_bin("orbifold")
         .unwrap()
@@ -36,15 +39,17 @@ fn new_and_check() {
         .assert()
         .code(2);
     assert!(!dir.join("bad.toml").exists());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `scene show` fills in every default: its TOML is the same scene, and its JSON has the
 /// defaults a script needs (the light's colour, the camera's field of view).
 #[test]
 fn show_fills_in_the_defaults() {
-    let dir = std::env::temp_dir().join(format!("orbifold-scene-show-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-scene-show-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let file = dir.join("room.toml");
     std::fs::write(
         &file,
@@ -92,5 +97,4 @@ fn show_fills_in_the_defaults() {
         .code(2)
         .stdout(predicate::str::is_empty())
         .stderr(predicate::str::contains("room.height"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -9,8 +9,11 @@ fn orbifold() -> Command {
 
 #[test]
 fn writes_png_and_svg() {
-    let dir = std::env::temp_dir().join(format!("orbifold-tiling-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-tiling-test-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let png = dir.join("t.png");
     orbifold()
         .args(["tiling", "*237", "--size", "64", "-o"])
@@ -60,12 +63,15 @@ fn writes_png_and_svg() {
         .arg(&png)
         .assert()
         .success();
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn bad_requests_exit_2() {
-    let out = std::env::temp_dir().join("orbifold-tiling-never.png");
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-tiling-test-")
+        .tempdir()
+        .unwrap();
+    let out = tmp.path().join("orbifold-tiling-never.png");
     orbifold()
         .args(["tiling", "*237", "--model", "sphere", "-o"])
         .arg(&out)

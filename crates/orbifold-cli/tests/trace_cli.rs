@@ -153,8 +153,11 @@ fn a_scene_camera_sees_its_object() {
 
 #[test]
 fn aovs_are_written_as_exr() {
-    let dir = std::env::temp_dir().join(format!("orbifold-trace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-trace-cli-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let file = dir.join("aov.exr");
     let scene = scenes().join("default.toml");
     orbifold()

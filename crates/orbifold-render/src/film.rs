@@ -545,15 +545,14 @@ impl Film {
     /// ```
     /// use orbifold_render::film::Film;
     ///
-    /// let dir = std::env::temp_dir().join(format!("orbifold-film-doc-{}", std::process::id()));
-    /// std::fs::create_dir_all(&dir).unwrap();
+    /// let tmp = tempfile::Builder::new().prefix("orbifold-film-doc-").tempdir().unwrap();
+    /// let dir = tmp.path();
     /// let mut film = Film::new(4, 4);
     /// film.add(1, 1, [0.5, 0.6, 0.7]);
     /// film.write(&dir.join("image.png"), 0.0).unwrap();
     /// film.write(&dir.join("image.exr"), 0.0).unwrap();
     /// let error = film.write(&dir.join("image.tiff"), 0.0).unwrap_err();
     /// assert!(error.contains("tiff"));
-    /// std::fs::remove_dir_all(&dir).unwrap();
     /// ```
     pub fn write(&self, path: &Path, exposure: f64) -> Result<(), String> {
         let extension = path.extension().map(|e| e.to_string_lossy().into_owned());

@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 use std::io::Cursor;
-use std::path::PathBuf;
+use std::path::Path;
 
 use glam::DVec3;
 use orbifold_render::film::{Film, luminance, tone_map};
@@ -629,15 +629,15 @@ fn tone_map_is_monotone_and_saturates() {
     assert!((80..=160).contains(&grey), "{grey}");
 }
 
-/// A fresh, empty directory for one test.
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-film-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh, empty directory for one test, removed when the test ends (also when it fails).
+fn scratch_dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("orbifold-film-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
-fn entries(dir: &PathBuf) -> Vec<String> {
+fn entries(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -648,7 +648,8 @@ fn entries(dir: &PathBuf) -> Vec<String> {
 
 #[test]
 fn write_is_atomic_and_chooses_the_format_by_extension() {
-    let dir = scratch_dir("write");
+    let tmp = scratch_dir("write");
+    let dir = tmp.path();
     let (film, _) = random_film(4, 4, 2, 1);
     let png = dir.join("out.png");
     let exr = dir.join("out.EXR");
@@ -666,33 +667,32 @@ fn write_is_atomic_and_chooses_the_format_by_extension() {
         std::fs::read(&png).unwrap(),
         other.to_png_bytes(0.5).unwrap()
     );
-    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
+    assert_eq!(entries(dir), ["out.EXR", "out.png"]);
 
     // Unknown or missing extensions are errors that say what was wrong, and write nothing.
     let error = film.write(&dir.join("out.tiff"), 0.0).unwrap_err();
     assert!(error.contains(".tiff"), "{error}");
     let error = film.write(&dir.join("out"), 0.0).unwrap_err();
     assert!(error.contains("no extension"), "{error}");
-    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
+    assert_eq!(entries(dir), ["out.EXR", "out.png"]);
 
     // A directory that does not exist: an error, and nothing is created.
     let missing = dir.join("missing").join("out.png");
     assert!(film.write(&missing, 0.0).is_err());
-    assert_eq!(entries(&dir), ["out.EXR", "out.png"]);
-    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(entries(dir), ["out.EXR", "out.png"]);
 }
 
 #[test]
 fn a_failed_rename_leaves_no_temporary_file() {
     // The target is a non-empty directory: the rename fails after the temporary file exists.
-    let dir = scratch_dir("rename");
+    let tmp = scratch_dir("rename");
+    let dir = tmp.path();
     let target = dir.join("taken.png");
     std::fs::create_dir(&target).unwrap();
     std::fs::write(target.join("keep"), b"x").unwrap();
     let (film, _) = random_film(2, 2, 2, 3);
     assert!(film.write(&target, 0.0).is_err());
-    assert_eq!(entries(&dir), ["taken.png"]);
-    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(entries(dir), ["taken.png"]);
 }
 
 /// The error of estimating the area of a disc in the unit square (π/16 for radius 1/4 about the

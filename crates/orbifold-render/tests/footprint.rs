@@ -141,8 +141,11 @@ fn an_image_of_a_checkerboard_is_filtered_like_the_checkerboard() {
     // A 2×2 image of black and white laid out at twice the checker's size is the same pattern;
     // filtered over the pixels' footprints (closed form for the checker, a summed-area table for
     // the image) the two floors must render alike, far floor and all.
-    let dir = std::env::temp_dir().join(format!("orbifold-footprint-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-footprint-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let path = dir.join("checker.png");
     // Texel (i, j), row j from the top, is white when i + j is odd: the checker's colour 0 where
     // ⌊x/size⌋ + ⌊y/size⌋ is even.

@@ -14,10 +14,12 @@ use orbifold_scene::texture::TextureImage;
 use orbifold_scene::{Coordinates, Material, Mirror, Scene, Wall};
 use proptest::prelude::*;
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-export-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder for a test's files, removed when the test ends (also when it fails).
+fn temp_dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("orbifold-export-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn partial_mirror_scene() -> Scene {
@@ -131,7 +133,8 @@ fn obj_reads_back_with_its_groups() {
     let geometry = scene.geometry(None).unwrap();
     let (groups, omitted) = geometry.groups(&[]);
     assert_eq!(omitted, 0);
-    let dir = temp_dir("obj");
+    let tmp = temp_dir("obj");
+    let dir = tmp.path();
     let path = dir.join("room.obj");
     let written = export(&groups, ExportFormat::Obj, &path, "test").unwrap();
     // The default floor is a checkerboard: its image is written beside the OBJ.
@@ -168,7 +171,6 @@ fn obj_reads_back_with_its_groups() {
         let material = &materials[model.mesh.material_id.unwrap()];
         assert_eq!(material.name, identifier(&group.name));
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -445,9 +447,10 @@ fn textured_scene(dir: &std::path::Path) -> Scene {
 
 #[test]
 fn textures_export_with_the_renderer_s_coordinates() {
-    let dir = temp_dir("textures");
-    let scene = textured_scene(&dir);
-    let geometry = scene.geometry(Some(&dir)).unwrap();
+    let tmp = temp_dir("textures");
+    let dir = tmp.path();
+    let scene = textured_scene(dir);
+    let geometry = scene.geometry(Some(dir)).unwrap();
     let (groups, _) = geometry.groups(&[]);
     let group = |name: &str| groups.iter().find(|g| g.name == name).unwrap();
     // The floor in model coordinates: u, v = model x, y over the scale (exports double x, y).
@@ -552,14 +555,14 @@ fn textures_export_with_the_renderer_s_coordinates() {
     let floors = copies.iter().find(|g| g.name == "floor copies").unwrap();
     assert_eq!(floors.uv.len(), floors.positions.len());
     assert_eq!(floors.uv[..floor.uv.len()], floor.uv[..]);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
 fn the_closed_wall_of_star_runs_its_texture_once_round() {
     // `*` has one wall, a great circle: its last column of vertices sits on its first.
-    let dir = temp_dir("star");
-    let mut scene = textured_scene(&dir);
+    let tmp = temp_dir("star");
+    let dir = tmp.path();
+    let mut scene = textured_scene(dir);
     scene.orbifold.signature = "*".into();
     scene.walls.clear();
     scene.room.wall_material = Material::Texture {
@@ -567,7 +570,7 @@ fn the_closed_wall_of_star_runs_its_texture_once_round() {
         scale: 1.0,
         coordinates: Coordinates::Model,
     };
-    let (groups, _) = scene.geometry(Some(&dir)).unwrap().groups(&[]);
+    let (groups, _) = scene.geometry(Some(dir)).unwrap().groups(&[]);
     let wall = groups.iter().find(|g| g.name == "wall 0").unwrap();
     let most = wall
         .uv
@@ -581,14 +584,14 @@ fn the_closed_wall_of_star_runs_its_texture_once_round() {
             - u.iter().cloned().fold(f64::INFINITY, f64::min);
         assert!(spread < 0.5, "a triangle across the seam: {u:?}");
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
 fn ply_carries_texture_coordinates_and_names_its_images() {
-    let dir = temp_dir("ply-textures");
-    let scene = textured_scene(&dir);
-    let geometry = scene.geometry(Some(&dir)).unwrap();
+    let tmp = temp_dir("ply-textures");
+    let dir = tmp.path();
+    let scene = textured_scene(dir);
+    let geometry = scene.geometry(Some(dir)).unwrap();
     let (groups, _) = geometry.groups(&[]);
     let path = dir.join("room.ply");
     let written = export(&groups, ExportFormat::Ply, &path, "test").unwrap();
@@ -652,5 +655,4 @@ fn ply_carries_texture_coordinates_and_names_its_images() {
     let mesh = parse_mesh(&bytes, MeshFormat::Ply, None).unwrap();
     let triangles: usize = groups.iter().map(|g| g.triangles.len()).sum();
     assert_eq!(mesh.triangles.len(), triangles);
-    std::fs::remove_dir_all(dir).unwrap();
 }

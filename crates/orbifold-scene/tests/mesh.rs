@@ -2,7 +2,7 @@
 //! the OBJ, PLY and glTF/GLB readers read back what was written and fail cleanly on bad input.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use num_complex::Complex64;
@@ -580,13 +580,12 @@ fn corners(mesh: &TriangleMesh) -> Vec<[[f64; 3]; 3]> {
         .collect()
 }
 
-/// A fresh scratch directory.
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("orbifold-mesh-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh scratch directory, removed when the test ends (also when it fails).
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("orbifold-mesh-test-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn kind(result: Result<TriangleMesh, MeshError>) -> MeshErrorKind {
@@ -697,7 +696,8 @@ fn gltf_with_a_data_uri_and_with_an_external_buffer() {
     let read = parse_mesh(json.as_bytes(), MeshFormat::Gltf, None).unwrap();
     assert_same(&read, &mesh, 1e-7, "glTF data URI");
 
-    let dir = scratch("gltf");
+    let tmp = scratch("gltf");
+    let dir = tmp.path();
     let (json, bin) = gltf_parts(&mesh, "", r#","uri":"tetra%20data.bin""#);
     std::fs::write(dir.join("tetra data.bin"), &bin).unwrap();
     std::fs::write(dir.join("tetra.gltf"), &json).unwrap();
@@ -724,7 +724,6 @@ fn gltf_with_a_data_uri_and_with_an_external_buffer() {
     }
     let read = load_mesh(&dir.join("t.OBJ")).unwrap();
     assert_eq!(corners(&read), corners(&mesh));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -1031,7 +1030,8 @@ fn load_mesh_names_the_file() {
     );
     let e = load_mesh(Path::new("model.stl")).unwrap_err();
     assert_eq!(e.kind, MeshErrorKind::UnknownFormat);
-    let dir = scratch("names");
+    let tmp = scratch("names");
+    let dir = tmp.path();
     let path = dir.join("broken.obj");
     std::fs::write(&path, "v 0 0 0\nf 1 1 2\n").unwrap();
     let e = load_mesh(&path).unwrap_err();
@@ -1042,7 +1042,6 @@ fn load_mesh_names_the_file() {
             path.display()
         )
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -165,8 +165,11 @@ to = 0.2
 
 #[test]
 fn load_and_save_through_files() {
-    let dir = std::env::temp_dir().join(format!("orbifold-scene-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-scene-test-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let path = dir.join("room.toml");
     let mut scene = Scene::default();
     scene.orbifold.signature = "*2333".into();
@@ -205,7 +208,6 @@ fn load_and_save_through_files() {
         "{}",
         e[0]
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn unit() -> impl Strategy<Value = f64> {

@@ -3,16 +3,18 @@
 use orbifold_scene::Scene;
 use orbifold_studio::document::{self, Document};
 
-fn folder(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("orbifold-studio-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh, empty folder for a test's files, removed when the test ends (also when it fails).
+fn folder(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("orbifold-studio-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 #[test]
 fn unsaved_work_is_kept_for_recovery_until_it_is_saved() {
-    let dir = folder("recovery");
+    let tmp = folder("recovery");
+    let dir = tmp.path();
     let recovery = dir.join("recovery.toml");
     let mut doc = Document::new(Some(recovery.clone()));
     doc.write_recovery().unwrap();
@@ -49,7 +51,8 @@ fn saving_without_a_file_asks_for_one_and_a_bad_folder_is_an_error() {
 
 #[test]
 fn a_broken_scene_file_is_refused_with_its_line() {
-    let dir = folder("broken");
+    let tmp = folder("broken");
+    let dir = tmp.path();
     let path = dir.join("broken.toml");
     std::fs::write(&path, "[room]\nheight = -1\n").unwrap();
     let error = Document::open(&path, None).unwrap_err();
@@ -58,14 +61,15 @@ fn a_broken_scene_file_is_refused_with_its_line() {
 
 #[test]
 fn recent_files_are_newest_first_without_repeats() {
-    let dir = folder("recent");
+    let tmp = folder("recent");
+    let dir = tmp.path();
     let files: Vec<_> = (0..12).map(|k| dir.join(format!("{k}.toml"))).collect();
     for f in &files {
         Scene::default().save(f).unwrap();
-        document::remember(&dir, f).unwrap();
+        document::remember(dir, f).unwrap();
     }
-    document::remember(&dir, &files[3]).unwrap();
-    let recent = document::recent_files(&dir);
+    document::remember(dir, &files[3]).unwrap();
+    let recent = document::recent_files(dir);
     assert_eq!(recent.len(), document::RECENT);
     assert_eq!(recent[0], files[3].canonicalize().unwrap());
     assert_eq!(recent[1], files[11].canonicalize().unwrap());

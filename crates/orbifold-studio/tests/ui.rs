@@ -115,8 +115,11 @@ fn mirrors_objects_and_lights_added_in_the_panels_survive_save_and_reopen() {
     assert_eq!(scene.lights[1].power, 55.0);
 
     // Save through the Save As dialog (Ctrl+S on a new document opens it).
-    let dir = std::env::temp_dir().join(format!("orbifold-studio-ui-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-studio-ui-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let path = dir.join("room.toml");
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
     harness.run();
@@ -167,8 +170,11 @@ fn objects_are_placed_by_dragging_in_the_top_view_and_a_drag_is_one_undo_step() 
 
 #[test]
 fn a_mesh_file_becomes_an_object_and_a_broken_one_is_reported() {
-    let dir = std::env::temp_dir().join(format!("orbifold-studio-mesh-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("orbifold-studio-mesh-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let obj = dir.join("tetrahedron.obj");
     std::fs::write(
         &obj,
