@@ -2,14 +2,17 @@
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
-//! [--no-cache] [--reference T] [--crease DEGREES]` (`--save`
+//! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...]` (`--save`
 //! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
 //! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
 //! the radiance cache; `--reference T`: also the error of the first image, raw and denoised,
 //! against a reference rendered for T seconds without the radiance cache: the bias of the
-//! denoiser and of the cache shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces)
+//! denoiser and of the cache shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces;
+//! `--checkpoints`: instead of the table, each room's two seeds rendered to the last of these
+//! times, with the denoised noise measured at each of them, and the time after which its 99th
+//! percentile is at most 3 levels — the time to a fixed noise level)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -35,7 +38,7 @@ use orbifold_render::denoise::{DenoiseOptions, denoise};
 use orbifold_render::film::{Film, tone_map};
 use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{Progressive, RenderOptions, render};
 use orbifold_render::room::AnalyticRoom;
 use orbifold_scene::{LightKind, Scene};
 
@@ -51,6 +54,7 @@ struct Args {
     no_cache: bool,
     reference: Option<f64>,
     crease: Option<f64>,
+    checkpoints: Vec<f64>,
 }
 
 fn parse_args() -> Args {
@@ -66,6 +70,7 @@ fn parse_args() -> Args {
         no_cache: false,
         reference: None,
         crease: None,
+        checkpoints: Vec::new(),
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -89,6 +94,13 @@ fn parse_args() -> Args {
             "--no-cache" => args.no_cache = true,
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             "--crease" => args.crease = Some(value().parse().expect("--crease DEGREES")),
+            "--checkpoints" => {
+                args.checkpoints = value()
+                    .split(',')
+                    .map(|t| t.parse().expect("--checkpoints T1,T2,..."))
+                    .collect();
+                args.checkpoints.sort_by(f64::total_cmp);
+            }
             other => panic!("unknown argument {other}"),
         }
     }
@@ -201,6 +213,88 @@ fn write_samples(film: &Film, path: &std::path::Path) {
     .expect("the sample map is written");
 }
 
+/// One seed's image at a checkpoint: denoised, with the exposure of its raw image.
+struct Checkpoint {
+    seconds: f64,
+    paths: u64,
+    exposure: f64,
+    denoised: Film,
+}
+
+/// Renders one seed round after round to the last of `args.checkpoints` (render time; the
+/// denoising at the checkpoints is not counted) and keeps the denoised image at each: the same
+/// rounds that `render` with that time limit would have run.
+fn render_to_checkpoints(
+    args: &Args,
+    integrator: &Integrator,
+    camera: &Camera,
+    seed: u64,
+) -> Vec<Checkpoint> {
+    let options = RenderOptions {
+        width: args.size,
+        height: args.size,
+        samples: u32::MAX,
+        seed,
+        time_limit: None,
+        noise_target: None,
+        adaptive: !args.uniform,
+        denoised: !args.raw_target,
+    };
+    let mut progressive = Progressive::new(integrator, camera, &options);
+    let mut rendering = Duration::ZERO;
+    let mut out = Vec::new();
+    for &checkpoint in &args.checkpoints {
+        while rendering.as_secs_f64() < checkpoint {
+            let start = Instant::now();
+            progressive.round();
+            rendering += start.elapsed();
+        }
+        out.push(Checkpoint {
+            seconds: rendering.as_secs_f64(),
+            paths: progressive.paths(),
+            exposure: progressive.film().auto_exposure(),
+            denoised: denoise(
+                progressive.film(),
+                progressive.guides(),
+                &DenoiseOptions::default(),
+            ),
+        });
+    }
+    out
+}
+
+/// The denoised noise of one room at each checkpoint, and the time after which its 99th
+/// percentile is at most `GOAL_P99` levels (the first checkpoint that reaches it, or, when none
+/// does, an extrapolation from the last with noise falling as 1/√t, marked so).
+fn checkpoint_rows(args: &Args, signature: &str, integrator: &Integrator, camera: &Camera) {
+    const GOAL_P99: f64 = 3.0;
+    let a = render_to_checkpoints(args, integrator, camera, 1);
+    let b = render_to_checkpoints(args, integrator, camera, 2);
+    let pixels = f64::from(args.size).powi(2);
+    let mut reached = None;
+    let mut last = (0.0, 0.0);
+    for (x, y) in a.iter().zip(&b) {
+        let (rms, median, p99) = display_noise(&x.denoised, &y.denoised, x.exposure);
+        println!(
+            "| `{signature}` | {:.0} | {:.1} | {rms:.1}, {median:.1}, {p99:.1} |",
+            x.seconds,
+            x.paths as f64 / pixels,
+        );
+        if reached.is_none() && p99 <= GOAL_P99 {
+            reached = Some(x.seconds);
+        }
+        last = (x.seconds, p99);
+    }
+    match reached {
+        Some(t) => println!("|   99th percentile ≤ {GOAL_P99} after {t:.0} s |"),
+        None => println!(
+            "|   99th percentile ≤ {GOAL_P99} after about {:.0} s (extrapolated as 1/√t from {:.0} s) |",
+            last.0 * (last.1 / GOAL_P99).powi(2),
+            last.0
+        ),
+    }
+}
+
 fn main() {
     let args = parse_args();
     println!(
@@ -212,10 +306,17 @@ fn main() {
         args.mesh.as_deref().unwrap_or("the built-in figure")
     );
     println!();
-    println!(
-        "| room | geometry | mean spp | relative noise | display noise raw: RMS, median | denoised: RMS, median, 99th percentile | denoise s | M paths/s | M rays/s |"
-    );
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    if args.checkpoints.is_empty() {
+        println!(
+            "| room | geometry | mean spp | relative noise | display noise raw: RMS, median | denoised: RMS, median, 99th percentile | denoise s | M paths/s | M rays/s |"
+        );
+        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    } else {
+        println!(
+            "| room | render s | mean spp | denoised display noise: RMS, median, 99th percentile |"
+        );
+        println!("|---|---:|---:|---:|");
+    }
     for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {
         if args.only.as_deref().is_some_and(|o| o != signature) {
             continue;
@@ -229,6 +330,10 @@ fn main() {
         };
         let integrator = Integrator::from_scene(&scene, None, settings).expect("the scene builds");
         let camera = Camera::new(integrator.space(), &scene.camera);
+        if !args.checkpoints.is_empty() {
+            checkpoint_rows(&args, signature, &integrator, &camera);
+            continue;
+        }
         let run_with = |integrator: &Integrator, seed, seconds: f64| {
             let options = RenderOptions {
                 width: args.size,
