@@ -213,11 +213,12 @@ fn write_samples(film: &Film, path: &std::path::Path) {
     .expect("the sample map is written");
 }
 
-/// One seed's image at a checkpoint: denoised, with the exposure of its raw image.
+/// One seed's image at a checkpoint, raw and denoised, with the exposure of the raw one.
 struct Checkpoint {
     seconds: f64,
     paths: u64,
     exposure: f64,
+    raw: Film,
     denoised: Film,
 }
 
@@ -253,6 +254,7 @@ fn render_to_checkpoints(
             seconds: rendering.as_secs_f64(),
             paths: progressive.paths(),
             exposure: progressive.film().auto_exposure(),
+            raw: progressive.film().clone(),
             denoised: denoise(
                 progressive.film(),
                 progressive.guides(),
@@ -274,11 +276,15 @@ fn checkpoint_rows(args: &Args, signature: &str, integrator: &Integrator, camera
     let pixels = f64::from(args.size).powi(2);
     let mut seen: Vec<(f64, f64)> = Vec::new();
     for (x, y) in a.iter().zip(&b) {
+        let raw = display_noise(&x.raw, &y.raw, x.exposure);
         let (rms, median, p99) = display_noise(&x.denoised, &y.denoised, x.exposure);
         println!(
-            "| `{signature}` | {} | {:.1} | {rms:.1}, {median:.1}, {p99:.1} |",
+            "| `{signature}` | {} | {:.1} | {:.1}, {:.1}, {:.1} | {rms:.1}, {median:.1}, {p99:.1} |",
             seconds(x.seconds),
             x.paths as f64 / pixels,
+            raw.0,
+            raw.1,
+            raw.2,
         );
         seen.push((x.seconds, p99));
     }
@@ -343,9 +349,9 @@ fn main() {
         println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
     } else {
         println!(
-            "| room | render s | mean spp | denoised display noise: RMS, median, 99th percentile |"
+            "| room | render s | mean spp | raw display noise: RMS, median, 99th percentile | denoised: RMS, median, 99th percentile |"
         );
-        println!("|---|---:|---:|---:|");
+        println!("|---|---:|---:|---:|---:|");
     }
     for signature in ["*", "*22", "*222", "*333", "*444", "*2222", "*3333"] {
         if args.only.as_deref().is_some_and(|o| o != signature) {
