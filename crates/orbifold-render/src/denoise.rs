@@ -14,6 +14,17 @@
 //! at a hyperbolic room's horizon) trusts its guides only as much as its paths agree — its
 //! guides are noise too — and is smoothed by its lighting tolerance.
 //!
+//! The light a pixel saw directly (lights' images through the mirrors, [`FirstHit::emitted`]) is
+//! taken out before filtering and added back unfiltered: the filter smooths only the light that
+//! surfaces reflect, with that part's own variance. Otherwise a small bright light image lends the
+//! ceiling around it its brightness (a halo) and its noise (the partial coverage of its edge
+//! pixels), and the pixels beside it take its variance as their own tolerance. The rest is
+//! filtered in two parts under the same guides, each with its own variance and so its own
+//! lighting tolerance (as SVGF filters direct and indirect light apart): the first surface's
+//! light sample ([`FirstHit::direct`]; smooth and well sampled where a light image is near, such
+//! as the glow a light throws on a ceiling), and the light of longer paths, far noisier, whose
+//! tolerance would otherwise flatten that glow.
+//!
 //! Denoising trades noise for bias (blur where the guides cannot tell surfaces apart); the
 //! renderer's tests check its estimates before any filtering.
 
@@ -24,7 +35,9 @@ use crate::film::{Film, luminance};
 use crate::integrator::FirstHit;
 use crate::light::Rgb;
 
-/// The per-pixel means of what camera paths saw first.
+/// The per-pixel means of what camera paths saw first, and the parts of their radiance that the
+/// denoiser treats apart: the light seen directly, and the mean and variance of the first
+/// surface's light sample and of the rest.
 #[derive(Clone, Debug)]
 pub struct Guides {
     width: u32,
@@ -33,6 +46,13 @@ pub struct Guides {
     normal: Vec<DVec3>,
     depth: Vec<f64>,
     depth2: Vec<f64>,
+    /// Σ of the light seen directly.
+    emitted: Vec<Rgb>,
+    /// Σ of the first surface's light sample.
+    direct: Vec<Rgb>,
+    /// The luminance statistics of the light sample and of the rest of the reflected light.
+    direct_stats: Vec<Welford>,
+    rest_stats: Vec<Welford>,
     count: Vec<u32>,
 }
 
@@ -44,8 +64,10 @@ impl Guides {
     /// use orbifold_render::integrator::FirstHit;
     ///
     /// let mut guides = Guides::new(2, 1);
-    /// guides.add(1, 0, &FirstHit { albedo: [0.5; 3], depth: 2.0, ..FirstHit::default() });
+    /// let first = FirstHit { albedo: [0.5; 3], depth: 2.0, emitted: [1.0; 3], ..FirstHit::default() };
+    /// guides.add(1, 0, &first, [1.2; 3]);
     /// assert_eq!(guides.albedo(1, 0), [0.5; 3]);
+    /// assert_eq!(guides.emitted(1, 0), [1.0; 3]);
     /// ```
     pub fn new(width: u32, height: u32) -> Guides {
         let n = width as usize * height as usize;
@@ -56,6 +78,10 @@ impl Guides {
             normal: vec![DVec3::ZERO; n],
             depth: vec![0.0; n],
             depth2: vec![0.0; n],
+            emitted: vec![[0.0; 3]; n],
+            direct: vec![[0.0; 3]; n],
+            direct_stats: vec![Welford::default(); n],
+            rest_stats: vec![Welford::default(); n],
             count: vec![0; n],
         }
     }
@@ -68,15 +94,29 @@ impl Guides {
         y as usize * self.width as usize + x as usize
     }
 
-    /// Adds what one path through pixel (x, y) saw first (non-finite values are skipped).
-    pub fn add(&mut self, x: u32, y: u32, first: &FirstHit) {
+    /// Adds what one path through pixel (x, y) saw first, with its `radiance` (of which
+    /// `first.emitted` is the part seen directly; non-finite values are skipped).
+    pub fn add(&mut self, x: u32, y: u32, first: &FirstHit, radiance: Rgb) {
         let finite = first.albedo.iter().all(|a| a.is_finite())
             && first.normal.is_finite()
-            && first.depth.is_finite();
+            && first.depth.is_finite()
+            && (first.emitted.iter())
+                .chain(&first.direct)
+                .chain(&radiance)
+                .all(|v| v.is_finite());
         if !finite {
             return;
         }
         let i = self.index(x, y);
+        for c in 0..3 {
+            self.emitted[i][c] += first.emitted[c];
+            self.direct[i][c] += first.direct[c];
+        }
+        let direct = luminance(first.direct);
+        let rest = luminance(radiance) - luminance(first.emitted) - direct;
+        let n = self.count[i] + 1;
+        self.direct_stats[i].add(direct, n);
+        self.rest_stats[i].add(rest, n);
         for (a, b) in self.albedo[i].iter_mut().zip(first.albedo) {
             *a += b;
         }
@@ -90,6 +130,28 @@ impl Guides {
     pub fn albedo(&self, x: u32, y: u32) -> Rgb {
         let i = self.index(x, y);
         self.mean_albedo(i)
+    }
+
+    /// The mean light seen directly at pixel (x, y) ([`FirstHit::emitted`]).
+    pub fn emitted(&self, x: u32, y: u32) -> Rgb {
+        let i = self.index(x, y);
+        self.mean_emitted(i)
+    }
+
+    fn mean_emitted(&self, i: usize) -> Rgb {
+        let n = f64::from(self.count[i].max(1));
+        self.emitted[i].map(|e| e / n)
+    }
+
+    /// The mean of the first surface's light sample at pixel (x, y) ([`FirstHit::direct`]).
+    pub fn direct(&self, x: u32, y: u32) -> Rgb {
+        let i = self.index(x, y);
+        self.mean_direct(i)
+    }
+
+    fn mean_direct(&self, i: usize) -> Rgb {
+        let n = f64::from(self.count[i].max(1));
+        self.direct[i].map(|e| e / n)
     }
 
     fn mean_albedo(&self, i: usize) -> Rgb {
@@ -117,6 +179,30 @@ impl Guides {
         let spread = (self.depth2[i] / n - mean * mean).max(0.0).sqrt();
         let normals = (self.normal[i].length() / n).min(1.0);
         normals / (1.0 + COHERENCE_DEPTH * spread / mean.max(1e-9))
+    }
+}
+
+/// A running mean and sum of squared deviations (Welford's algorithm), for a standard error.
+#[derive(Clone, Copy, Debug, Default)]
+struct Welford {
+    mean: f64,
+    m2: f64,
+}
+
+impl Welford {
+    /// Adds `value` as the `n`th sample.
+    fn add(&mut self, value: f64, n: u32) {
+        let delta = value - self.mean;
+        self.mean += delta / f64::from(n);
+        self.m2 += delta * (value - self.mean);
+    }
+
+    /// The standard error of the mean of `n` samples; infinite with fewer than two.
+    fn standard_error(&self, n: u32) -> f64 {
+        if n < 2 {
+            return f64::INFINITY;
+        }
+        ((self.m2 / f64::from(n - 1)).max(0.0) / f64::from(n)).sqrt()
     }
 }
 
@@ -168,13 +254,13 @@ const ALBEDO_FLOOR: f64 = 0.01;
 /// let (w, h) = (16, 16);
 /// let mut film = Film::new(w, h);
 /// let mut guides = Guides::new(w, h);
-/// let first = FirstHit { albedo: [0.5; 3], normal: glam::DVec3::Z, depth: 1.0 };
+/// let first = FirstHit { albedo: [0.5; 3], normal: glam::DVec3::Z, depth: 1.0, ..FirstHit::default() };
 /// for y in 0..h {
 ///     for x in 0..w {
 ///         for k in 0..4u32 {
 ///             let noise = if (x + y + k) % 2 == 0 { 0.1 } else { -0.1 };
 ///             film.add(x, y, [0.3 + noise; 3]);
-///             guides.add(x, y, &first);
+///             guides.add(x, y, &first, [0.3 + noise; 3]);
 ///         }
 ///     }
 /// }
@@ -207,8 +293,10 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
 ///     for x in 0..w {
 ///         let albedo = if (x, y) == (4, 4) { [0.9, 0.1, 0.1] } else { [0.5; 3] };
 ///         for k in 0..4u32 {
-///             film.add(x, y, [0.3 + 0.1 * f64::from(k % 2); 3]);
-///             guides.add(x, y, &FirstHit { albedo, normal: glam::DVec3::Z, depth: 1.0 });
+///             let radiance = [0.3 + 0.1 * f64::from(k % 2); 3];
+///             film.add(x, y, radiance);
+///             let first = FirstHit { albedo, normal: glam::DVec3::Z, depth: 1.0, ..FirstHit::default() };
+///             guides.add(x, y, &first, radiance);
 ///         }
 ///     }
 /// }
@@ -234,24 +322,6 @@ pub fn denoise_with_reduction(
     let normal: Vec<DVec3> = (0..n).map(|i| guides.mean_normal(i)).collect();
     let depth: Vec<f64> = (0..n).map(|i| guides.mean_depth(i)).collect();
     let coherence: Vec<f64> = (0..n).map(|i| guides.coherence(i)).collect();
-    // Lighting (the image over the albedo) and the variance of its luminance.
-    let mut lighting: Vec<Rgb> = Vec::with_capacity(n);
-    let mut variance: Vec<f64> = Vec::with_capacity(n);
-    for y in 0..height {
-        for x in 0..width {
-            let i = y as usize * width as usize + x as usize;
-            let a = albedo[i];
-            let c = film.pixel(x, y);
-            lighting.push([c[0] / a[0], c[1] / a[1], c[2] / a[2]]);
-            let se = film.standard_error(x, y);
-            let scale = luminance(a).max(ALBEDO_FLOOR);
-            variance.push(if se.is_finite() {
-                (se / scale).powi(2)
-            } else {
-                f64::INFINITY
-            });
-        }
-    }
     let guide = Guide {
         width: width as usize,
         height: height as usize,
@@ -261,27 +331,52 @@ pub fn denoise_with_reduction(
         coherence: &coherence,
         options,
     };
-    let before = variance.clone();
-    for pass in 0..options.passes {
-        let step = 1usize << pass;
-        // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in SVGF):
-        // a pixel whose few samples happened to agree — all zero, say — has a variance estimate
-        // near 0 and would otherwise refuse every neighbour and stay a dark or bright speck.
-        let tolerance: Vec<f64> = (0..n)
-            .into_par_iter()
-            .map(|i| guide.blurred(i, &variance))
-            .collect();
-        let (next, next_variance): (Vec<Rgb>, Vec<f64>) = (0..n)
-            .into_par_iter()
-            .map(|i| guide.filter(i, step, &lighting, &variance, tolerance[i]))
-            .unzip();
-        lighting = next;
-        variance = next_variance;
-    }
+    // The reflected light in two parts, each over the albedo with the variance of its
+    // luminance: the first surface's light sample, and the rest (the film's mean less it and
+    // less the light seen directly, which is added back unfiltered).
+    let emitted: Vec<Rgb> = (0..n).map(|i| guides.mean_emitted(i)).collect();
+    let over_albedo = |i: usize, value: Rgb, stats: &Welford| {
+        let a = albedo[i];
+        let se = stats.standard_error(guides.count[i]);
+        let scale = luminance(a).max(ALBEDO_FLOOR);
+        let variance = if se.is_finite() {
+            (se / scale).powi(2)
+        } else {
+            f64::INFINITY
+        };
+        (
+            [value[0] / a[0], value[1] / a[1], value[2] / a[2]],
+            variance,
+        )
+    };
+    let (lighting, variance) = (0..n)
+        .map(|i| over_albedo(i, guides.mean_direct(i), &guides.direct_stats[i]))
+        .unzip();
+    let direct = Part { lighting, variance };
+    let (lighting, variance) = (0..n)
+        .map(|i| {
+            let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
+            let (c, e, d) = (film.pixel(x, y), emitted[i], guides.mean_direct(i));
+            let value = [0, 1, 2].map(|k| c[k] - e[k] - d[k]);
+            over_albedo(i, value, &guides.rest_stats[i])
+        })
+        .unzip();
+    let rest = Part { lighting, variance };
+    let total_variance = |parts: &[Part; 2]| -> Vec<f64> {
+        (0..n)
+            .map(|i| parts[0].variance[i] + parts[1].variance[i])
+            .collect()
+    };
+    let parts = [direct, rest];
+    let before = total_variance(&parts);
+    let parts = guide.smooth(parts);
+    let variance = total_variance(&parts);
+    let [direct, rest] = parts;
     let pixels: Vec<Rgb> = (0..n)
         .map(|i| {
-            let (l, a) = (lighting[i], albedo[i]);
-            [l[0] * a[0], l[1] * a[1], l[2] * a[2]]
+            let (d, r) = (direct.lighting[i], rest.lighting[i]);
+            let (a, e) = (albedo[i], emitted[i]);
+            [0, 1, 2].map(|k| (d[k] + r[k]) * a[k] + e[k])
         })
         .collect();
     let reduction = before
@@ -298,6 +393,13 @@ pub fn denoise_with_reduction(
     (Film::from_pixels(width, height, &pixels), reduction)
 }
 
+/// One part of the reflected light being filtered: per pixel its value over the albedo, and the
+/// variance of that value's luminance (infinite where unknown).
+struct Part {
+    lighting: Vec<Rgb>,
+    variance: Vec<f64>,
+}
+
 /// The guides of one denoising run.
 struct Guide<'a> {
     width: usize,
@@ -310,6 +412,35 @@ struct Guide<'a> {
 }
 
 impl Guide<'_> {
+    /// The à-trous passes over parts of the lighting, each with the variance of its luminance
+    /// and its own lighting tolerance, under the same guides (whose weights are computed once
+    /// for all parts).
+    fn smooth<const N: usize>(&self, mut parts: [Part; N]) -> [Part; N] {
+        let n = self.width * self.height;
+        for pass in 0..self.options.passes {
+            let step = 1usize << pass;
+            // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in
+            // SVGF): a pixel whose few samples happened to agree — all zero, say — has a
+            // variance estimate near 0 and would otherwise refuse every neighbour and stay a
+            // dark or bright speck.
+            let around: [Vec<f64>; N] = parts.each_ref().map(|part| {
+                (0..n)
+                    .into_par_iter()
+                    .map(|i| self.blurred(i, &part.variance))
+                    .collect()
+            });
+            let filtered: Vec<[(Rgb, f64); N]> = (0..n)
+                .into_par_iter()
+                .map(|i| self.filter(i, step, &parts, &around.each_ref().map(|v| v[i])))
+                .collect();
+            parts = std::array::from_fn(|k| Part {
+                lighting: filtered.iter().map(|f| f[k].0).collect(),
+                variance: filtered.iter().map(|f| f[k].1).collect(),
+            });
+        }
+        parts
+    }
+
     /// The variance around pixel `i`: a 3×3 Gaussian of the finite variances.
     fn blurred(&self, i: usize, variance: &[f64]) -> f64 {
         const GAUSS: [f64; 3] = [0.25, 0.5, 0.25];
@@ -335,19 +466,11 @@ impl Guide<'_> {
         }
     }
 
-    /// How much neighbour `j` counts for pixel `i` (before the kernel's weight): a product of
-    /// falloffs in their normals' angle, depths, albedos and lighting, computed as one
-    /// exponential of the sum of their logarithms (the filter's hot path). The guides' terms are
-    /// scaled by how much pixel `i`'s paths agree (its coherence).
-    fn edge_stop(
-        &self,
-        i: usize,
-        j: usize,
-        step: usize,
-        lighting_i: f64,
-        lighting_j: f64,
-        tolerance: f64,
-    ) -> f64 {
+    /// How much neighbour `j` counts for pixel `i` by the guides (before the kernel's weight and
+    /// the lighting's): the logarithm of a product of falloffs in their normals' angle, depths
+    /// and albedos (the filter's hot path: one logarithm, no exponential), scaled by how much
+    /// pixel `i`'s paths agree (its coherence); `None` for a weight of 0.
+    fn guide_log_weight(&self, i: usize, j: usize, step: usize) -> Option<f64> {
         let o = self.options;
         let trust = self.coherence[i];
         let cos = self.normal[i].dot(self.normal[j]);
@@ -357,7 +480,7 @@ impl Guide<'_> {
         } else if cos > 0.0 {
             o.sigma_normal * trust * cos.ln()
         } else {
-            return 0.0;
+            return None;
         };
         let (zi, zj) = (self.depth[i], self.depth[j]);
         let depth = -(zi - zj).abs() / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9) * trust;
@@ -365,32 +488,30 @@ impl Guide<'_> {
             .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
             .sum();
         let albedo = -da / (o.sigma_albedo * o.sigma_albedo) * trust;
-        let light = -(lighting_i - lighting_j).abs() / tolerance;
-        (normal + depth + albedo + light).exp()
+        Some(normal + depth + albedo)
     }
 
-    /// One à-trous tap set around pixel `i` with holes of `step`: the filtered lighting and its
-    /// variance. `variance_around` is the (blurred) variance that sets the lighting tolerance.
-    fn filter(
+    /// One à-trous tap set around pixel `i` with holes of `step`, for every part: the filtered
+    /// lighting and its variance. `variance_around` is each part's (blurred) variance there,
+    /// which sets its lighting tolerance.
+    fn filter<const N: usize>(
         &self,
         i: usize,
         step: usize,
-        lighting: &[Rgb],
-        variance: &[f64],
-        variance_around: f64,
-    ) -> (Rgb, f64) {
+        parts: &[Part; N],
+        variance_around: &[f64; N],
+    ) -> [(Rgb, f64); N] {
         let o = self.options;
         let (x, y) = ((i % self.width) as isize, (i / self.width) as isize);
-        let centre = lighting[i];
-        let centre_l = luminance(centre);
+        let centre = parts.each_ref().map(|p| luminance(p.lighting[i]));
         // The lighting tolerance: a few standard errors (an infinite variance — nothing
         // sampled around — accepts everything).
-        let tolerance = o.sigma_lighting * variance_around.sqrt() + 1e-6;
+        let tolerance = variance_around.map(|v| o.sigma_lighting * v.sqrt() + 1e-6);
         // A pixel whose paths saw many different things (sub-pixel detail: the crowd of far
         // mirror images at a hyperbolic room's horizon) has guides that are themselves noise:
-        // it listens to them only as much as its paths agree (`edge_stop`), and to its
+        // it listens to them only as much as its paths agree (`guide_log_weight`), and to its
         // lighting tolerance.
-        let (mut sum, mut weights, mut var) = ([0.0; 3], 0.0, 0.0);
+        let mut sums = [([0.0; 3], 0.0, 0.0); N];
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y + (dy as isize - 2) * step as isize;
             if yy < 0 || yy >= self.height as isize {
@@ -402,27 +523,42 @@ impl Guide<'_> {
                     continue;
                 }
                 let j = yy as usize * self.width + xx as usize;
-                let w = if j == i {
-                    kx * ky
+                let guides = if j == i {
+                    Some(0.0)
                 } else {
-                    kx * ky
-                        * self.edge_stop(i, j, step, centre_l, luminance(lighting[j]), tolerance)
+                    self.guide_log_weight(i, j, step)
                 };
-                // NaN weights (from NaN guides) and unsampled neighbours are skipped.
-                let usable = w > 0.0 && (j == i || variance[j].is_finite());
-                if !usable {
+                let Some(guides) = guides else {
                     continue;
+                };
+                for (k, part) in parts.iter().enumerate() {
+                    let w = if j == i {
+                        kx * ky
+                    } else {
+                        let light = -(centre[k] - luminance(part.lighting[j])).abs() / tolerance[k];
+                        kx * ky * (guides + light).exp()
+                    };
+                    // NaN weights (from NaN guides) and unsampled neighbours are skipped.
+                    let usable = w > 0.0 && (j == i || part.variance[j].is_finite());
+                    if !usable {
+                        continue;
+                    }
+                    let (sum, weights, var) = &mut sums[k];
+                    for (s, l) in sum.iter_mut().zip(part.lighting[j]) {
+                        *s += w * l;
+                    }
+                    *weights += w;
+                    *var += w * w * part.variance[j];
                 }
-                for (s, l) in sum.iter_mut().zip(lighting[j]) {
-                    *s += w * l;
-                }
-                weights += w;
-                var += w * w * variance[j];
             }
         }
-        if weights <= 0.0 {
-            return (centre, variance[i]);
-        }
-        (sum.map(|s| s / weights), var / (weights * weights))
+        std::array::from_fn(|k| {
+            let (sum, weights, var) = sums[k];
+            if weights <= 0.0 {
+                (parts[k].lighting[i], parts[k].variance[i])
+            } else {
+                (sum.map(|s| s / weights), var / (weights * weights))
+            }
+        })
     }
 }

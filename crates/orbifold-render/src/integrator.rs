@@ -581,7 +581,8 @@ struct March {
 }
 
 /// What a camera path saw first — the first surface that is not a mirror — as guides for the
-/// denoiser ([`crate::denoise`]).
+/// denoiser ([`crate::denoise`]), and the two parts of its radiance that the denoiser treats
+/// apart: the light seen directly, and the first surface's light sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FirstHit {
     /// The surface's reflectance colour ([`Bsdf::albedo`]); 1 for a light or nothing.
@@ -590,6 +591,17 @@ pub struct FirstHit {
     pub normal: DVec3,
     /// Arc length from the camera, through the mirrors; 0 for nothing.
     pub depth: f64,
+    /// The light the camera saw directly, through mirrors only: the images of lights that the
+    /// path hit, or that its pixel's footprint glimpsed, before its first surface. It is part
+    /// of the path's radiance; the denoiser leaves it as it is and smooths only the rest, so
+    /// that a bright light image neither bleeds into the surfaces around it nor lends them its
+    /// noise.
+    pub emitted: Rgb,
+    /// The light that the first surface reflected straight from a light sample there (next-event
+    /// estimation): part of the path's radiance, smooth and well sampled where a light image is
+    /// near, which the denoiser filters apart from the rest (the light of longer paths, far
+    /// noisier) with its own variance, as SVGF filters direct and indirect light apart.
+    pub direct: Rgb,
 }
 
 /// One camera path's estimate and what it saw first.
@@ -1457,6 +1469,10 @@ impl Integrator {
         // The camera path's first diffuse surface, while its estimate for the cache is traced.
         let mut pending: Option<Pending> = None;
         let mut previous_diffuse = false;
+        // The light seen before the first surface (`FirstHit::emitted`), and the first surface's
+        // light sample (`FirstHit::direct`).
+        let mut seen = [0.0; 3];
+        let mut direct_first = [0.0; 3];
         loop {
             // The pixel's footprint is carried from the camera through mirrors only.
             let carried = footprint.as_ref().filter(|_| first.is_none());
@@ -1467,7 +1483,11 @@ impl Integrator {
             };
             let roulette = Some((&mut *sampler, luminance(beta), level));
             let march = self.march(&ray, f64::INFINITY, None, roulette, carried, false);
+            let before_surfaces = first.is_none();
             add(&mut radiance, mul(beta, march.glimpsed));
+            if before_surfaces {
+                add(&mut seen, mul(beta, march.glimpsed));
+            }
             beta = mul(beta, march.throughput);
             let MarchEnd::Hit(near) = march.end else {
                 break;
@@ -1480,6 +1500,7 @@ impl Integrator {
                     albedo: [1.0; 3],
                     normal: -travel,
                     depth: march.length,
+                    ..FirstHit::default()
                 });
             }
             if let Struck::Light(l, triangle, w) = near.struck {
@@ -1498,6 +1519,9 @@ impl Integrator {
                     power_heuristic(1.0, pdf_bsdf, 1.0, pdf_light)
                 };
                 add(&mut radiance, scale(mul(beta, emitted), weight));
+                if before_surfaces {
+                    add(&mut seen, scale(mul(beta, emitted), weight));
+                }
                 break;
             }
             // An odd number of mirrors has swapped left and right (as the march's own copy).
@@ -1531,6 +1555,7 @@ impl Integrator {
                     albedo: bsdf.albedo(),
                     normal,
                     depth: march.length,
+                    ..FirstHit::default()
                 });
             }
             // Light from the radiance cache: all the light that a far image, or a surface reached
@@ -1587,6 +1612,9 @@ impl Integrator {
                 let sides = Sides { geometric, wo };
                 let direct = self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf);
                 add(&mut radiance, mul(beta, direct));
+                if depth == 1 {
+                    direct_first = mul(beta, direct);
+                }
             }
             let Some(sample) =
                 bsdf.sample(shading.to_local(wo), sampler.next_2d(), sampler.next_f64())
@@ -1621,21 +1649,30 @@ impl Integrator {
             ..
         }) = pending
         {
+            // A probe takes the cache's value: its own light sample is not in its radiance.
             radiance = before;
             add(&mut radiance, read);
+            direct_first = [0.0; 3];
         }
+        let finite = radiance
+            .iter()
+            .chain(&seen)
+            .chain(&direct_first)
+            .all(|v| v.is_finite());
+        let mut first = first.unwrap_or(FirstHit {
+            albedo: [1.0; 3],
+            ..FirstHit::default()
+        });
+        (first.emitted, first.direct) = if finite {
+            (seen, direct_first)
+        } else {
+            ([0.0; 3], [0.0; 3])
+        };
         PathSample {
             deposit,
             rays: rays_so_far().wrapping_sub(rays_before),
-            radiance: if radiance.iter().all(|v| v.is_finite()) {
-                radiance
-            } else {
-                [0.0; 3]
-            },
-            first: first.unwrap_or(FirstHit {
-                albedo: [1.0; 3],
-                ..FirstHit::default()
-            }),
+            radiance: if finite { radiance } else { [0.0; 3] },
+            first,
         }
     }
 

@@ -315,7 +315,7 @@ impl<'a> Progressive<'a> {
                 (pixel / u64::from(width)) as u32,
             );
             self.film.add(i, j, value.radiance);
-            self.guides.add(i, j, &value.first);
+            self.guides.add(i, j, &value.first, value.radiance);
             self.taken[*pixel as usize] += 1;
         }
         if let Some(cache) = &mut self.cache {

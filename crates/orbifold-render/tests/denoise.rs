@@ -69,7 +69,7 @@ fn card(width: u32, height: u32, right: FirstHit, left: FirstHit) -> (Film, Guid
                 let noise = 0.05 * (f64::from((x * 7 + y * 13 + k * 5) % 11) - 5.0) / 5.0;
                 let value = first.albedo.map(|a| a * (0.5 + noise));
                 film.add(x, y, value);
-                guides.add(x, y, &first);
+                guides.add(x, y, &first, value);
             }
         }
     }
@@ -82,11 +82,13 @@ fn edges_between_surfaces_and_albedos_are_kept() {
         albedo: [0.8; 3],
         normal: DVec3::Z,
         depth: 1.0,
+        ..FirstHit::default()
     };
     let wall = FirstHit {
         albedo: [0.1, 0.2, 0.6],
         normal: DVec3::X,
         depth: 1.2,
+        ..FirstHit::default()
     };
     let (film, guides) = card(32, 8, wall, floor);
     let clean = denoise(&film, &guides, &DenoiseOptions::default());
@@ -124,16 +126,15 @@ fn unsampled_pixels_black_surfaces_and_nothing_seen_stay_finite() {
                 continue; // no sample at all
             }
             let albedo = if x % 2 == 0 { [0.0; 3] } else { [1.0; 3] };
-            film.add(x, y, [f64::from(x) * 0.1; 3]);
-            guides.add(
-                x,
-                y,
-                &FirstHit {
-                    albedo,
-                    normal: DVec3::ZERO,
-                    depth: 0.0,
-                },
-            );
+            let value = [f64::from(x) * 0.1; 3];
+            film.add(x, y, value);
+            let first = FirstHit {
+                albedo,
+                normal: DVec3::ZERO,
+                depth: 0.0,
+                ..FirstHit::default()
+            };
+            guides.add(x, y, &first, value);
         }
     }
     let clean = denoise(&film, &guides, &DenoiseOptions::default());
@@ -168,14 +169,16 @@ fn pixels_whose_paths_saw_many_things_are_smoothed_by_their_lighting_alone() {
         for x in 0..w {
             for _ in 0..8 {
                 let noise = if next() < 0.5 { 0.2 } else { -0.2 };
-                film.add(x, y, [0.3 + noise; 3]);
+                let value = [0.3 + noise; 3];
+                film.add(x, y, value);
                 let angle = std::f64::consts::TAU * next();
                 let first = FirstHit {
                     albedo: [0.8; 3],
                     normal: DVec3::new(angle.cos(), angle.sin(), 0.3).normalize(),
                     depth: 5.0 + 10.0 * next(),
+                    ..FirstHit::default()
                 };
-                guides.add(x, y, &first);
+                guides.add(x, y, &first, value);
             }
         }
     }
@@ -192,5 +195,116 @@ fn pixels_whose_paths_saw_many_things_are_smoothed_by_their_lighting_alone() {
         "noise {:.4} before denoising, {:.4} after",
         rms(&film),
         rms(&clean)
+    );
+}
+
+/// A deterministic stream of uniform numbers in [0, 1) for the cards below.
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn a_light_image_neither_bleeds_into_the_wall_around_it_nor_is_smoothed() {
+    // A grey wall (albedo 0.8, lighting 0.3 ± 0.05) with a small, bright mirror image of a light
+    // in the middle, which covers half of each of its 2×2 pixels: each sample there either sees
+    // the light (40, seen directly) or the wall.
+    let (w, h) = (24u32, 24u32);
+    let mut film = Film::new(w, h);
+    let mut guides = Guides::new(w, h);
+    let mut next = uniform(7);
+    let wall = FirstHit {
+        albedo: [0.8; 3],
+        normal: DVec3::Z,
+        depth: 1.0,
+        ..FirstHit::default()
+    };
+    let light = FirstHit {
+        albedo: [1.0; 3],
+        normal: DVec3::Z,
+        depth: 0.9,
+        emitted: [40.0; 3],
+        ..FirstHit::default()
+    };
+    let on_light = |x: u32, y: u32| (11..13).contains(&x) && (11..13).contains(&y);
+    for y in 0..h {
+        for x in 0..w {
+            for _ in 0..16 {
+                let (first, value) = if on_light(x, y) && next() < 0.5 {
+                    (light, [40.0; 3])
+                } else {
+                    (wall, [0.8 * (0.3 + 0.1 * (next() - 0.5)); 3])
+                };
+                film.add(x, y, value);
+                guides.add(x, y, &first, value);
+            }
+        }
+    }
+    let clean = denoise(&film, &guides, &DenoiseOptions::default());
+    for y in 8..16 {
+        for x in 8..16 {
+            let p = clean.pixel(x, y)[0];
+            if on_light(x, y) {
+                // The light's share is the pixel's own, unfiltered; the wall's share of the
+                // pixel is filtered with the wall (so it may drift towards a whole wall pixel).
+                let seen = guides.emitted(x, y)[0];
+                assert!(
+                    (0.0..0.3).contains(&(p - seen)),
+                    "light pixel ({x}, {y}): {p:.3}, its light {seen:.3}"
+                );
+            } else {
+                assert!(
+                    (p - 0.24).abs() < 0.01,
+                    "wall pixel ({x}, {y}) next to the light: {p:.4}, not 0.24"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_smooth_light_sample_keeps_its_peak_under_noisy_indirect_light() {
+    // The first surface's light sample draws a bright, noiseless spot (the glow of a light
+    // image close to a ceiling); the rest of the light is faint and very noisy. Filtered
+    // together, the spot would be flattened within the tolerance the noise sets.
+    let (w, h) = (40u32, 40u32);
+    let mut film = Film::new(w, h);
+    let mut guides = Guides::new(w, h);
+    let mut next = uniform(11);
+    let spot = |x: u32, y: u32| {
+        let r2 = (f64::from(x) - 20.0).powi(2) + (f64::from(y) - 20.0).powi(2);
+        0.1 + 0.5 * (-r2 / 8.0).exp()
+    };
+    for y in 0..h {
+        for x in 0..w {
+            for _ in 0..8 {
+                let direct = [spot(x, y); 3];
+                let rest = if next() < 0.1 { 2.0 } else { 0.0 };
+                let value = direct.map(|d| d + rest);
+                let first = FirstHit {
+                    albedo: [1.0; 3],
+                    normal: DVec3::Z,
+                    depth: 1.0,
+                    direct,
+                    ..FirstHit::default()
+                };
+                film.add(x, y, value);
+                guides.add(x, y, &first, value);
+            }
+        }
+    }
+    let clean = denoise(&film, &guides, &DenoiseOptions::default());
+    // The peak keeps its height over the rest's mean (0.2), within what the rest's filtered
+    // noise leaves.
+    let peak = clean.pixel(20, 20)[0] - 0.2;
+    assert!(
+        (peak - spot(20, 20)).abs() < 0.05,
+        "peak {peak:.3} against {:.3}",
+        spot(20, 20)
     );
 }

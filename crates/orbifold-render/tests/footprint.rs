@@ -247,3 +247,39 @@ fn every_sample_of_a_pixel_sees_the_checkerboard_filtered_over_that_pixel() {
         assert!(ratio < 0.05, "{signature}: {ratio} of the variance left");
     }
 }
+
+#[test]
+fn the_light_seen_directly_and_the_first_light_sample_are_parts_of_the_radiance() {
+    // The denoiser filters these two parts apart from the rest (`FirstHit::emitted`,
+    // `FirstHit::direct`): they must be shares of the sample's radiance, never more.
+    for (signature, pitch) in [("*333", 10.0), ("*22", 15.0), ("*444", 5.0)] {
+        let scene = scene(signature, 90.0, pitch);
+        let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let size = 12;
+        let (mut seen, mut lit) = (0, 0);
+        for p in 0..size * size {
+            let (i, j) = (p % size, p / size);
+            for k in 0..8 {
+                let mut sampler = Sampler::stratified(5, u64::from(p), k);
+                let offset = sampler.next_2d();
+                let ray = camera.ray(i, j, size, size, offset);
+                let f = (k % 2 == 0).then(|| camera.footprint(i, j, size, size, offset));
+                let sample = integrator.sample_pixel(&ray, f, &mut sampler);
+                let (e, d, r) = (sample.first.emitted, sample.first.direct, sample.radiance);
+                for c in 0..3 {
+                    assert!(
+                        e[c] >= 0.0 && d[c] >= 0.0 && e[c] + d[c] <= r[c] * (1.0 + 1e-9) + 1e-12,
+                        "{signature}, pixel ({i}, {j}): emitted {e:?} + direct {d:?} > radiance {r:?}"
+                    );
+                }
+                seen += usize::from(luminance(e) > 0.0);
+                lit += usize::from(luminance(d) > 0.0);
+            }
+        }
+        assert!(
+            seen > 0 && lit > 0,
+            "{signature}: {seen} samples saw the light, {lit} lit by it"
+        );
+    }
+}
