@@ -139,8 +139,13 @@ impl Guides {
     }
 
     fn mean_emitted(&self, i: usize) -> Rgb {
+        self.mean_of(&self.emitted, i)
+    }
+
+    /// The mean at pixel `i` of a per-pixel sum over its paths.
+    fn mean_of(&self, sums: &[Rgb], i: usize) -> Rgb {
         let n = f64::from(self.count[i].max(1));
-        self.emitted[i].map(|e| e / n)
+        sums[i].map(|s| s / n)
     }
 
     /// The mean of the first surface's light sample at pixel (x, y) ([`FirstHit::direct`]).
@@ -150,13 +155,11 @@ impl Guides {
     }
 
     fn mean_direct(&self, i: usize) -> Rgb {
-        let n = f64::from(self.count[i].max(1));
-        self.direct[i].map(|e| e / n)
+        self.mean_of(&self.direct, i)
     }
 
     fn mean_albedo(&self, i: usize) -> Rgb {
-        let n = f64::from(self.count[i].max(1));
-        self.albedo[i].map(|a| a / n)
+        self.mean_of(&self.albedo, i)
     }
 
     fn mean_normal(&self, i: usize) -> DVec3 {

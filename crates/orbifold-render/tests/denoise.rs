@@ -158,13 +158,7 @@ fn pixels_whose_paths_saw_many_things_are_smoothed_by_their_lighting_alone() {
     let (w, h) = (24u32, 24u32);
     let mut film = Film::new(w, h);
     let mut guides = Guides::new(w, h);
-    let mut state = 12345u64;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = uniform(12345);
     for y in 0..h {
         for x in 0..w {
             for _ in 0..8 {
@@ -198,7 +192,7 @@ fn pixels_whose_paths_saw_many_things_are_smoothed_by_their_lighting_alone() {
     );
 }
 
-/// A deterministic stream of uniform numbers in [0, 1) for the cards below.
+/// A deterministic stream of uniform numbers in [0, 1) for the test cards.
 fn uniform(seed: u64) -> impl FnMut() -> f64 {
     let mut state = seed;
     move || {
