@@ -2,7 +2,8 @@
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
-//! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...]` (`--save`
+//! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
+//! box|gaussian]` (`--save`
 //! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
@@ -12,7 +13,8 @@
 //! denoiser and of the cache shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces;
 //! `--checkpoints`: instead of the table, each room's two seeds rendered to the last of these
 //! times, with the denoised noise measured at each of them, and the time after which its 99th
-//! percentile is at most 3 levels — the time to a fixed noise level)
+//! percentile is at most 3 levels — the time to a fixed noise level; `--filter`: the pixel
+//! reconstruction filter, the renderer's default Gaussian unless told)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -36,6 +38,7 @@ use std::time::{Duration, Instant};
 use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, denoise};
 use orbifold_render::film::{Film, tone_map};
+use orbifold_render::filter::PixelFilter;
 use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{Progressive, RenderOptions, render};
@@ -55,6 +58,7 @@ struct Args {
     reference: Option<f64>,
     crease: Option<f64>,
     checkpoints: Vec<f64>,
+    filter: PixelFilter,
 }
 
 fn parse_args() -> Args {
@@ -71,6 +75,7 @@ fn parse_args() -> Args {
         reference: None,
         crease: None,
         checkpoints: Vec::new(),
+        filter: PixelFilter::default(),
     };
     let default_mesh = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -101,6 +106,7 @@ fn parse_args() -> Args {
                     .collect();
                 args.checkpoints.sort_by(f64::total_cmp);
             }
+            "--filter" => args.filter = PixelFilter::from_name(&value()).expect("--filter"),
             other => panic!("unknown argument {other}"),
         }
     }
@@ -240,6 +246,7 @@ fn render_to_checkpoints(
         noise_target: None,
         adaptive: !args.uniform,
         denoised: !args.raw_target,
+        filter: args.filter,
     };
     let mut progressive = Progressive::new(integrator, camera, &options);
     let mut rendering = Duration::ZERO;
@@ -380,6 +387,7 @@ fn main() {
                 noise_target: None,
                 adaptive: !args.uniform,
                 denoised: !args.raw_target,
+                filter: args.filter,
             };
             render(
                 integrator,

@@ -32,12 +32,14 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::film::{Film, luminance};
+use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
 use crate::light::Rgb;
 
 /// The per-pixel means of what camera paths saw first, and the parts of their radiance that the
 /// denoiser treats apart: the light seen directly, and the mean and variance of the first
-/// surface's light sample and of the rest.
+/// surface's light sample and of the rest. The means are weighted by the film's reconstruction
+/// filter as the film's are ([`Guides::splat`]), so that the parts add up to the film's pixel.
 #[derive(Clone, Debug)]
 pub struct Guides {
     width: u32,
@@ -53,7 +55,9 @@ pub struct Guides {
     /// The luminance statistics of the light sample and of the rest of the reflected light.
     direct_stats: Vec<Welford>,
     rest_stats: Vec<Welford>,
-    count: Vec<u32>,
+    /// Σ weight and Σ weight² of the paths that count for each pixel.
+    weight: Vec<f64>,
+    weight2: Vec<f64>,
 }
 
 impl Guides {
@@ -82,7 +86,8 @@ impl Guides {
             direct: vec![[0.0; 3]; n],
             direct_stats: vec![Welford::default(); n],
             rest_stats: vec![Welford::default(); n],
-            count: vec![0; n],
+            weight: vec![0.0; n],
+            weight2: vec![0.0; n],
         }
     }
 
@@ -95,8 +100,44 @@ impl Guides {
     }
 
     /// Adds what one path through pixel (x, y) saw first, with its `radiance` (of which
-    /// `first.emitted` is the part seen directly; non-finite values are skipped).
+    /// `first.emitted` is the part seen directly; non-finite values are skipped), for that pixel
+    /// only (the box filter, as [`Film::add`]).
     pub fn add(&mut self, x: u32, y: u32, first: &FirstHit, radiance: Rgb) {
+        let i = self.index(x, y);
+        self.add_weighted(i, first, radiance, 1.0);
+    }
+
+    /// Adds what a path taken for pixel (x, y) at `offset` within it saw first to every pixel that
+    /// `filter` counts it for, with the filter's weights (as [`Film::splat`]).
+    ///
+    /// ```
+    /// use orbifold_render::denoise::Guides;
+    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::integrator::FirstHit;
+    ///
+    /// let mut guides = Guides::new(3, 3);
+    /// let first = FirstHit { albedo: [0.5; 3], ..FirstHit::default() };
+    /// guides.splat(1, 1, (0.5, 0.5), &first, [1.0; 3], PixelFilter::GAUSSIAN);
+    /// assert_eq!(guides.albedo(2, 0), [0.5; 3]);
+    /// ```
+    pub fn splat(
+        &mut self,
+        x: u32,
+        y: u32,
+        offset: (f64, f64),
+        first: &FirstHit,
+        radiance: Rgb,
+        filter: PixelFilter,
+    ) {
+        self.index(x, y);
+        for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
+            let k = self.index(i, j);
+            self.add_weighted(k, first, radiance, w);
+        }
+    }
+
+    /// Counts a path for pixel `i` with weight `w` > 0.
+    fn add_weighted(&mut self, i: usize, first: &FirstHit, radiance: Rgb, w: f64) {
         let finite = first.albedo.iter().all(|a| a.is_finite())
             && first.normal.is_finite()
             && first.depth.is_finite()
@@ -107,23 +148,32 @@ impl Guides {
         if !finite {
             return;
         }
-        let i = self.index(x, y);
         for c in 0..3 {
-            self.emitted[i][c] += first.emitted[c];
-            self.direct[i][c] += first.direct[c];
+            self.emitted[i][c] += w * first.emitted[c];
+            self.direct[i][c] += w * first.direct[c];
+            self.albedo[i][c] += w * first.albedo[c];
         }
         let direct = luminance(first.direct);
         let rest = luminance(radiance) - luminance(first.emitted) - direct;
-        let n = self.count[i] + 1;
-        self.direct_stats[i].add(direct, n);
-        self.rest_stats[i].add(rest, n);
-        for (a, b) in self.albedo[i].iter_mut().zip(first.albedo) {
-            *a += b;
-        }
-        self.normal[i] += first.normal;
-        self.depth[i] += first.depth;
-        self.depth2[i] += first.depth * first.depth;
-        self.count[i] += 1;
+        self.weight[i] += w;
+        self.weight2[i] += w * w;
+        self.direct_stats[i].add(direct, w, self.weight[i]);
+        self.rest_stats[i].add(rest, w, self.weight[i]);
+        self.normal[i] += w * first.normal;
+        self.depth[i] += w * first.depth;
+        self.depth2[i] += w * first.depth * first.depth;
+    }
+
+    /// The effective number of paths behind pixel `i`'s means, (Σw)²/Σw² (their number for
+    /// unit weights).
+    fn effective_paths(&self, i: usize) -> f64 {
+        let (w, w2) = (self.weight[i], self.weight2[i]);
+        if w2 > 0.0 { w * w / w2 } else { 0.0 }
+    }
+
+    /// The standard error of pixel `i`'s weighted mean of the values that `stats` follows.
+    fn standard_error(&self, i: usize, stats: &Welford) -> f64 {
+        stats.standard_error(self.weight[i], self.weight2[i])
     }
 
     /// The mean albedo at pixel (x, y).
@@ -144,8 +194,12 @@ impl Guides {
 
     /// The mean at pixel `i` of a per-pixel sum over its paths.
     fn mean_of(&self, sums: &[Rgb], i: usize) -> Rgb {
-        let n = f64::from(self.count[i].max(1));
-        sums[i].map(|s| s / n)
+        let w = self.weight[i];
+        if w > 0.0 {
+            sums[i].map(|s| s / w)
+        } else {
+            [0.0; 3]
+        }
     }
 
     /// The mean of the first surface's light sample at pixel (x, y) ([`FirstHit::direct`]).
@@ -167,25 +221,27 @@ impl Guides {
     }
 
     fn mean_depth(&self, i: usize) -> f64 {
-        self.depth[i] / f64::from(self.count[i].max(1))
+        let w = self.weight[i];
+        if w > 0.0 { self.depth[i] / w } else { 0.0 }
     }
 
     /// How much the paths through pixel `i` agree on what they saw first, in [0, 1]: the length
     /// of their mean normal times a falloff with the spread of their depths (1: one surface; near
     /// 0: the pixel covers many things smaller than itself, such as far mirror images).
     fn coherence(&self, i: usize) -> f64 {
-        let n = f64::from(self.count[i]);
-        if n < 2.0 {
+        if self.effective_paths(i) < 2.0 - 1e-9 {
             return 1.0;
         }
-        let mean = self.depth[i] / n;
-        let spread = (self.depth2[i] / n - mean * mean).max(0.0).sqrt();
-        let normals = (self.normal[i].length() / n).min(1.0);
+        let w = self.weight[i];
+        let mean = self.depth[i] / w;
+        let spread = (self.depth2[i] / w - mean * mean).max(0.0).sqrt();
+        let normals = (self.normal[i].length() / w).min(1.0);
         normals / (1.0 + COHERENCE_DEPTH * spread / mean.max(1e-9))
     }
 }
 
-/// A running mean and sum of squared deviations (Welford's algorithm), for a standard error.
+/// A weighted running mean and sum of squared deviations (West's weighted form of Welford's
+/// algorithm), for a standard error.
 #[derive(Clone, Copy, Debug, Default)]
 struct Welford {
     mean: f64,
@@ -193,19 +249,21 @@ struct Welford {
 }
 
 impl Welford {
-    /// Adds `value` as the `n`th sample.
-    fn add(&mut self, value: f64, n: u32) {
+    /// Adds `value` with weight `w`, the weights' sum now being `total`.
+    fn add(&mut self, value: f64, w: f64, total: f64) {
         let delta = value - self.mean;
-        self.mean += delta / f64::from(n);
-        self.m2 += delta * (value - self.mean);
+        self.mean += delta * w / total;
+        self.m2 += w * delta * (value - self.mean);
     }
 
-    /// The standard error of the mean of `n` samples; infinite with fewer than two.
-    fn standard_error(&self, n: u32) -> f64 {
-        if n < 2 {
+    /// The standard error of the weighted mean, with Σw = `w` and Σw² = `w2` (for unit weights
+    /// √(s²/n)); infinite while the effective number of samples (Σw)²/Σw² is at most one.
+    fn standard_error(&self, w: f64, w2: f64) -> f64 {
+        if w2 <= 0.0 || w * w <= w2 * (1.0 + 1e-9) {
             return f64::INFINITY;
         }
-        ((self.m2 / f64::from(n - 1)).max(0.0) / f64::from(n)).sqrt()
+        let s2 = (self.m2 / (w - w2 / w)).max(0.0);
+        (s2 * w2).sqrt() / w
     }
 }
 
@@ -340,7 +398,7 @@ pub fn denoise_with_reduction(
     let emitted: Vec<Rgb> = (0..n).map(|i| guides.mean_emitted(i)).collect();
     let over_albedo = |i: usize, value: Rgb, stats: &Welford| {
         let a = albedo[i];
-        let se = stats.standard_error(guides.count[i]);
+        let se = guides.standard_error(i, stats);
         let scale = luminance(a).max(ALBEDO_FLOOR);
         let variance = if se.is_finite() {
             (se / scale).powi(2)

@@ -2,17 +2,20 @@
 //! OpenEXR (linear) or PNG (tone-mapped).
 //!
 //! Pixel (0, 0) is the top-left corner; x grows to the right and y downwards, as in the image
-//! files. The reconstruction filter is a box of one pixel: every sample counts for its own pixel
-//! only, with weight 1.
+//! files. A pixel's value is the weighted mean of the samples around it under a reconstruction
+//! filter ([`crate::filter::PixelFilter`]): [`Film::splat`] counts a sample for every pixel the
+//! filter reaches, [`Film::add`] for its own pixel only (the box filter).
 //!
 //! **Parallel use.** A [`Film`] is plain data: each rayon task can fill a film of its own (or a
 //! whole-image film it owns) and the results are combined with [`Film::merge`]; or the tasks
 //! return rows of radiance that are added in a fixed order with [`Film::add_row`], which keeps
 //! the image bit-for-bit independent of the thread schedule.
 //!
-//! **Noise.** Beside the RGB sums the film keeps, per pixel, the running mean and the sum of
-//! squared deviations of the sample luminance (Welford's method, merged with Chan et al.'s
-//! formula), from which [`Film::standard_error`] and [`Film::relative_noise`] are computed.
+//! **Noise.** Beside the weighted RGB sums the film keeps, per pixel, the sums of the weights and
+//! of their squares, and the weighted running mean and sum of squared deviations of the sample
+//! luminance (West's weighted form of Welford's method, merged with Chan et al.'s formula), from
+//! which [`Film::standard_error`] and [`Film::relative_noise`] are computed: the variance of a
+//! weighted mean of independent samples is s²·Σw²/(Σw)².
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{Cursor, Write};
@@ -21,6 +24,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
+
+use crate::filter::PixelFilter;
 
 /// The relative luminance of linear Rec. 709 / sRGB primaries: 0.2126 R + 0.7152 G + 0.0722 B.
 ///
@@ -37,7 +42,7 @@ pub fn luminance(rgb: [f64; 3]) -> f64 {
 /// dominate the mean.
 pub const NOISE_LUMINANCE_OFFSET: f64 = 1e-2;
 
-/// An HDR image being accumulated from radiance samples (box filter).
+/// An HDR image being accumulated from radiance samples.
 ///
 /// ```
 /// use orbifold_render::film::Film;
@@ -53,13 +58,16 @@ pub const NOISE_LUMINANCE_OFFSET: f64 = 1e-2;
 pub struct Film {
     width: u32,
     height: u32,
-    /// Σ radiance per pixel.
+    /// Σ weight × radiance per pixel.
     sum: Vec<[f64; 3]>,
-    /// The number of (finite) samples per pixel; with the box filter also the total weight.
+    /// Σ weight and Σ weight² per pixel, over the samples that count for it.
+    weight: Vec<f64>,
+    weight2: Vec<f64>,
+    /// The number of (finite) samples taken for each pixel (whatever other pixels they count for).
     count: Vec<u64>,
-    /// The running mean of the sample luminance per pixel.
+    /// The weighted running mean of the sample luminance per pixel.
     lum_mean: Vec<f64>,
-    /// Σ (luminance − mean)² per pixel (Welford's M2).
+    /// Σ weight × (luminance − mean)² per pixel (the weighted M2).
     lum_m2: Vec<f64>,
     /// Samples with a non-finite component, counted and not stored.
     dropped: u64,
@@ -80,6 +88,8 @@ impl Film {
             width,
             height,
             sum: vec![[0.0; 3]; n],
+            weight: vec![0.0; n],
+            weight2: vec![0.0; n],
             count: vec![0; n],
             lum_mean: vec![0.0; n],
             lum_m2: vec![0.0; n],
@@ -146,9 +156,9 @@ impl Film {
         y as usize * self.width as usize + x as usize
     }
 
-    /// Adds one radiance sample to pixel (x, y). A sample with a NaN or infinite component is
-    /// not stored (the pixel is unchanged, its sample count too) and is counted in
-    /// [`Film::dropped`].
+    /// Adds one radiance sample to pixel (x, y), for that pixel only (the box filter). A sample
+    /// with a NaN or infinite component is not stored (the pixel is unchanged, its sample count
+    /// too) and is counted in [`Film::dropped`].
     ///
     /// # Panics
     ///
@@ -173,15 +183,61 @@ impl Film {
             self.dropped += 1;
             return;
         }
-        let s = &mut self.sum[i];
-        for (acc, c) in s.iter_mut().zip(radiance) {
-            *acc += c;
-        }
         self.count[i] += 1;
+        self.add_weighted(i, radiance, 1.0);
+    }
+
+    /// Adds a sample taken for pixel (x, y) at `offset` ∈ [0, 1)² within it to every pixel that
+    /// `filter` counts it for, with the filter's weights ([`PixelFilter::footprint`]); it is one
+    /// more of pixel (x, y)'s samples ([`Film::samples`]). Non-finite samples are dropped as by
+    /// [`Film::add`]. With [`PixelFilter::Box`] this is [`Film::add`].
+    ///
+    /// # Panics
+    ///
+    /// If (x, y) is outside the film.
+    ///
+    /// ```
+    /// use orbifold_render::film::Film;
+    /// use orbifold_render::filter::PixelFilter;
+    ///
+    /// let mut film = Film::new(3, 3);
+    /// film.splat(1, 1, (0.5, 0.5), [1.0; 3], PixelFilter::GAUSSIAN);
+    /// // Every pixel now has the sample's value; only the middle one has a sample of its own.
+    /// assert_eq!(film.pixel(0, 2), [1.0; 3]);
+    /// assert_eq!((film.samples(1, 1), film.samples(0, 2)), (1, 0));
+    /// ```
+    pub fn splat(
+        &mut self,
+        x: u32,
+        y: u32,
+        offset: (f64, f64),
+        radiance: [f64; 3],
+        filter: PixelFilter,
+    ) {
+        let own = self.index(x, y);
+        if !radiance.iter().all(|c| c.is_finite()) {
+            self.dropped += 1;
+            return;
+        }
+        self.count[own] += 1;
+        for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
+            let k = self.index(i, j);
+            self.add_weighted(k, radiance, w);
+        }
+    }
+
+    /// Counts a finite sample for pixel `i` with weight `w` > 0 (West 1979: the weighted form of
+    /// Welford's update).
+    fn add_weighted(&mut self, i: usize, radiance: [f64; 3], w: f64) {
+        for (acc, c) in self.sum[i].iter_mut().zip(radiance) {
+            *acc += w * c;
+        }
+        self.weight[i] += w;
+        self.weight2[i] += w * w;
         let l = luminance(radiance);
         let delta = l - self.lum_mean[i];
-        self.lum_mean[i] += delta / self.count[i] as f64;
-        self.lum_m2[i] += delta * (l - self.lum_mean[i]);
+        self.lum_mean[i] += delta * w / self.weight[i];
+        self.lum_m2[i] += w * delta * (l - self.lum_mean[i]);
     }
 
     /// Adds one sample to every pixel of row `y`: `row[x]` goes to pixel (x, y). Convenient with
@@ -245,20 +301,21 @@ impl Film {
             self.height
         );
         for i in 0..self.sum.len() {
-            let nb = other.count[i];
-            if nb == 0 {
+            self.count[i] += other.count[i];
+            let wb = other.weight[i];
+            if wb == 0.0 {
                 continue;
             }
-            let na = self.count[i];
+            let wa = self.weight[i];
             for (acc, c) in self.sum[i].iter_mut().zip(other.sum[i]) {
                 *acc += c;
             }
-            let n = na + nb;
+            let w = wa + wb;
             let delta = other.lum_mean[i] - self.lum_mean[i];
-            let (fa, fb, f) = (na as f64, nb as f64, n as f64);
-            self.lum_mean[i] += delta * fb / f;
-            self.lum_m2[i] += other.lum_m2[i] + delta * delta * fa * fb / f;
-            self.count[i] = n;
+            self.lum_mean[i] += delta * wb / w;
+            self.lum_m2[i] += other.lum_m2[i] + delta * delta * wa * wb / w;
+            self.weight[i] = w;
+            self.weight2[i] += other.weight2[i];
         }
         self.dropped += other.dropped;
     }
@@ -282,15 +339,15 @@ impl Film {
     }
 
     fn mean_at(&self, i: usize) -> [f64; 3] {
-        let n = self.count[i];
-        if n == 0 {
+        let w = self.weight[i];
+        if w == 0.0 {
             return [0.0; 3];
         }
-        let n = n as f64;
-        self.sum[i].map(|s| s / n)
+        self.sum[i].map(|s| s / w)
     }
 
-    /// The number of samples stored at pixel (x, y) (dropped ones are not counted).
+    /// The number of samples taken for pixel (x, y) (dropped ones are not counted); with a
+    /// filter wider than the box, samples of its neighbours count for it too.
     ///
     /// # Panics
     ///
@@ -321,16 +378,22 @@ impl Film {
         self.dropped
     }
 
-    /// The sample variance s² = M2/(n − 1) of the luminance at pixel index `i`; `None` below
-    /// two samples.
-    fn luminance_variance_at(&self, i: usize) -> Option<f64> {
-        let n = self.count[i];
-        (n >= 2).then(|| (self.lum_m2[i] / (n - 1) as f64).max(0.0))
+    /// The variance of the weighted mean luminance at pixel index `i`: s²·Σw²/(Σw)², with the
+    /// unbiased weighted sample variance s² = M2/(Σw − Σw²/Σw) (for unit weights M2/(n − 1) and
+    /// s²/n); `None` while the samples' effective number (Σw)²/Σw² is at most one.
+    fn mean_variance_at(&self, i: usize) -> Option<f64> {
+        let (w, w2) = (self.weight[i], self.weight2[i]);
+        let effective = if w2 > 0.0 { w * w / w2 } else { 0.0 };
+        (effective > 1.0 + 1e-9).then(|| {
+            let s2 = (self.lum_m2[i] / (w - w2 / w)).max(0.0);
+            s2 * w2 / (w * w)
+        })
     }
 
     /// The standard error of the mean luminance of pixel (x, y): √(s²/n), with s² the unbiased
-    /// sample variance of the luminance (Rec. 709 weights, see [`luminance`]) of its n samples.
-    /// Infinite when the pixel has fewer than two samples (the error is then unknown).
+    /// sample variance of the luminance (Rec. 709 weights, see [`luminance`]) of its n samples;
+    /// for a filter's weighted mean, √(s²·Σw²)/Σw. Infinite when the pixel has fewer than two
+    /// samples (the error is then unknown).
     ///
     /// # Panics
     ///
@@ -352,8 +415,8 @@ impl Film {
     }
 
     fn standard_error_at(&self, i: usize) -> f64 {
-        match self.luminance_variance_at(i) {
-            Some(v) => (v / self.count[i] as f64).sqrt(),
+        match self.mean_variance_at(i) {
+            Some(v) => v.sqrt(),
             None => f64::INFINITY,
         }
     }

@@ -6,6 +6,7 @@
 
 pub mod camera;
 pub mod film;
+pub mod filter;
 pub mod geodesic;
 pub mod room;
 pub mod sampler;

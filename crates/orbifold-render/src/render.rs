@@ -37,6 +37,7 @@ use rayon::prelude::*;
 use crate::camera::Camera;
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::Film;
+use crate::filter::PixelFilter;
 use crate::integrator::{Integrator, PathSample, Settings};
 use crate::radiance_cache::RadianceCache;
 use crate::sampler::Sampler;
@@ -63,6 +64,9 @@ pub struct RenderOptions {
     /// The image will be denoised ([`crate::denoise`]): adaptive sampling aims at the noise the
     /// denoiser leaves rather than at the raw image's (see the module documentation).
     pub denoised: bool,
+    /// How each sample counts for the pixels around it ([`PixelFilter`]; by default the
+    /// Gaussian of pbrt and Mitsuba).
+    pub filter: PixelFilter,
 }
 
 /// Rounds over the whole image before adaptive sampling starts.
@@ -96,6 +100,7 @@ impl RenderOptions {
             noise_target: None,
             adaptive: true,
             denoised: false,
+            filter: PixelFilter::default(),
         }
     }
 }
@@ -296,34 +301,40 @@ impl<'a> Progressive<'a> {
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height, offset);
-            integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler)
+            let sample = integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler);
+            (pixel, offset, sample)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
-        let results: Vec<(u64, PathSample)> = match &chosen {
+        let results: Vec<(u64, Offset, PathSample)> = match &chosen {
             Some(list) => list
                 .par_iter()
-                .map(|&(p, k)| (p, trace(p, taken[p as usize] + k)))
+                .map(|&(p, k)| trace(p, taken[p as usize] + k))
                 .collect(),
             None => (0..pixels)
                 .into_par_iter()
-                .map(|p| (p, trace(p, taken[p as usize])))
+                .map(|p| trace(p, taken[p as usize]))
                 .collect(),
         };
-        for (pixel, value) in &results {
+        let filter = options.filter;
+        for (pixel, offset, value) in &results {
             let (i, j) = (
                 (pixel % u64::from(width)) as u32,
                 (pixel / u64::from(width)) as u32,
             );
-            self.film.add(i, j, value.radiance);
-            self.guides.add(i, j, &value.first, value.radiance);
+            self.film.splat(i, j, *offset, value.radiance, filter);
+            self.guides
+                .splat(i, j, *offset, &value.first, value.radiance, filter);
             self.taken[*pixel as usize] += 1;
         }
         if let Some(cache) = &mut self.cache {
-            let deposits: Vec<_> = results.iter().filter_map(|(_, v)| v.deposit).collect();
+            let deposits: Vec<_> = results.iter().filter_map(|(_, _, v)| v.deposit).collect();
             cache.add_all(&deposits);
         }
         self.total += results.len() as u64;
-        self.rays += results.iter().map(|(_, v)| u64::from(v.rays)).sum::<u64>();
+        self.rays += results
+            .iter()
+            .map(|(_, _, v)| u64::from(v.rays))
+            .sum::<u64>();
         self.rounds += 1;
     }
 
@@ -371,6 +382,9 @@ impl<'a> Progressive<'a> {
         }
     }
 }
+
+/// Where a sample lies in its pixel, in [0, 1)².
+type Offset = (f64, f64);
 
 /// What adaptive sampling aims at.
 #[derive(Clone, Copy, Debug)]

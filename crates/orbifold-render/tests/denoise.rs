@@ -4,8 +4,10 @@
 use glam::DVec3;
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
 use orbifold_render::film::{Film, tone_map};
+use orbifold_render::filter::PixelFilter;
 use orbifold_render::integrator::{FirstHit, Settings};
 use orbifold_render::render::{RenderOptions, Rendered, render_scene};
+use orbifold_render::sampler::Sampler;
 use orbifold_scene::{LightKind, Scene};
 
 fn rendered(scene: &Scene, samples: u32, seed: u64) -> Rendered {
@@ -301,4 +303,44 @@ fn a_smooth_light_sample_keeps_its_peak_under_noisy_indirect_light() {
         "peak {peak:.3} against {:.3}",
         spot(20, 20)
     );
+}
+
+/// Under a filter wider than the box, the guides weigh each path as the film does, so that the
+/// light seen directly, the light sample and the rest still add up to the film's pixel: an
+/// image of light seen directly only (noisy, splatted with the Gaussian) comes out of the
+/// denoiser as it went in, since that part is not filtered.
+#[test]
+fn the_guides_weigh_paths_as_the_film_does() {
+    let (w, h) = (12, 10);
+    let mut film = Film::new(w, h);
+    let mut guides = Guides::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            for k in 0..6u32 {
+                let mut s = Sampler::stratified(8, u64::from(y * w + x), u64::from(k));
+                let offset = s.next_2d();
+                let light = [1.0 + 4.0 * s.next_f64(), 2.0, 0.5 * f64::from(x % 3)];
+                let first = FirstHit {
+                    albedo: [0.5; 3],
+                    normal: DVec3::Z,
+                    depth: 1.0,
+                    emitted: light,
+                    ..FirstHit::default()
+                };
+                film.splat(x, y, offset, light, PixelFilter::GAUSSIAN);
+                guides.splat(x, y, offset, &first, light, PixelFilter::GAUSSIAN);
+            }
+        }
+    }
+    let clean = denoise(&film, &guides, &DenoiseOptions::default());
+    for y in 0..h {
+        for x in 0..w {
+            let (a, b) = (clean.pixel(x, y), film.pixel(x, y));
+            assert!(
+                (0..3).all(|c| (a[c] - b[c]).abs() < 1e-9 * (1.0 + b[c])),
+                "({x}, {y}): {a:?} against {b:?}"
+            );
+            assert_eq!(guides.emitted(x, y), b);
+        }
+    }
 }

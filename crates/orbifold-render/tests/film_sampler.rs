@@ -6,6 +6,7 @@ use std::path::Path;
 
 use glam::DVec3;
 use orbifold_render::film::{Film, luminance, tone_map};
+use orbifold_render::filter::PixelFilter;
 use orbifold_render::sampler::{
     Distribution1d, Frame, Sampler, cosine_hemisphere, cosine_hemisphere_pdf, frame_from_normal,
     power_heuristic, to_local, to_world, uniform_cone, uniform_cone_pdf, uniform_disk_concentric,
@@ -483,6 +484,145 @@ fn merging_equals_adding_everything() {
         }
     }
     assert!((merged.relative_noise() - all.relative_noise()).abs() < 1e-9);
+}
+
+/// One sample: its pixel, its offset in the pixel, its radiance.
+type Splat = (u32, u32, (f64, f64), [f64; 3]);
+
+/// Every sample of a random image (a noisy value per pixel around a smooth ramp),
+/// splatted with `filter` from offsets of a stratified sampler.
+fn splatted_film(
+    (w, h): (u32, u32),
+    samples: u64,
+    seed: u64,
+    filter: PixelFilter,
+) -> (Film, Vec<Splat>) {
+    let mut film = Film::new(w, h);
+    let mut all = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            for k in 0..samples {
+                let pixel = u64::from(y * w + x);
+                let mut s = Sampler::stratified(seed, pixel, k);
+                let offset = s.next_2d();
+                let v = 0.2 + 0.01 * f64::from(x) + s.next_f64();
+                let c = [v, 0.5 * v, 2.0 * v];
+                film.splat(x, y, offset, c, filter);
+                all.push((x, y, offset, c));
+            }
+        }
+    }
+    (film, all)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+    /// A pixel's value and standard error under a filter are the weighted mean of the samples
+    /// that reach it and the textbook standard error of a weighted mean of independent samples,
+    /// √(s²·Σw²)/Σw with s² = Σw(L − mean)²/(Σw − Σw²/Σw).
+    #[test]
+    fn a_filtered_pixel_is_the_weighted_mean_of_its_samples(
+        seed in 0u64..1000,
+        samples in 1u64..6,
+        gaussian in any::<bool>(),
+    ) {
+        let filter = if gaussian { PixelFilter::GAUSSIAN } else { PixelFilter::Box };
+        let (w, h) = (5, 4);
+        let (film, all) = splatted_film((w, h), samples, seed, filter);
+        for y in 0..h {
+            for x in 0..w {
+                let reach: Vec<(f64, [f64; 3])> = all
+                    .iter()
+                    .filter_map(|&(i, j, offset, c)| {
+                        let pixels = filter.footprint(i, j, offset, w, h);
+                        let found = pixels.iter().find(|&&(a, b, _)| (a, b) == (x, y));
+                        found.map(|&(_, _, weight)| (weight, c))
+                    })
+                    .collect();
+                let sw: f64 = reach.iter().map(|r| r.0).sum();
+                let sw2: f64 = reach.iter().map(|r| r.0 * r.0).sum();
+                let mean: [f64; 3] =
+                    [0, 1, 2].map(|k| reach.iter().map(|r| r.0 * r.1[k]).sum::<f64>() / sw);
+                for (a, b) in film.pixel(x, y).iter().zip(mean) {
+                    prop_assert!((a - b).abs() < 1e-12 * (1.0 + b.abs()));
+                }
+                let l = luminance(mean);
+                let m2: f64 = reach.iter().map(|r| r.0 * (luminance(r.1) - l).powi(2)).sum();
+                let se = film.standard_error(x, y);
+                if sw * sw > sw2 * (1.0 + 1e-6) {
+                    let expected = (m2 / (sw - sw2 / sw) * sw2).sqrt() / sw;
+                    prop_assert!((se - expected).abs() < 1e-9 * (1.0 + expected), "{se} {expected}");
+                } else {
+                    prop_assert_eq!(se, f64::INFINITY);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn merging_splatted_films_equals_splatting_everything() {
+    let (w, h) = (6, 5);
+    let (all, samples) = splatted_film((w, h), 4, 9, PixelFilter::GAUSSIAN);
+    let mut parts = [Film::new(w, h), Film::new(w, h)];
+    for (k, &(x, y, offset, c)) in samples.iter().enumerate() {
+        parts[k % 2].splat(x, y, offset, c, PixelFilter::GAUSSIAN);
+    }
+    let mut merged = parts[0].clone();
+    merged.merge(&parts[1]);
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(merged.samples(x, y), 4);
+            for (a, b) in merged.pixel(x, y).iter().zip(all.pixel(x, y)) {
+                assert!((a - b).abs() < 1e-12);
+            }
+            let (ea, eb) = (merged.standard_error(x, y), all.standard_error(x, y));
+            assert!((ea - eb).abs() < 1e-12, "{ea} vs {eb}");
+        }
+    }
+}
+
+/// The Gaussian averages each pixel over its neighbours' samples: for independent noise its
+/// pixels vary about a third as much as the box's (1/(4πσ²) untruncated), and the standard
+/// error it reports is what the pixels really vary by.
+#[test]
+fn the_gaussian_filter_lowers_the_noise_and_says_how_much() {
+    let (w, h, n) = (48u32, 48u32, 8u64);
+    let noise = |filter| {
+        let mut film = Film::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                for k in 0..n {
+                    let mut s = Sampler::new(3, u64::from(y * w + x), k);
+                    let offset = s.next_2d();
+                    film.splat(x, y, offset, [s.next_f64(); 3], filter);
+                }
+            }
+        }
+        // Interior pixels: their spread about the true mean ½, and their mean reported error².
+        let inner: Vec<(f64, f64)> = (2..h - 2)
+            .flat_map(|y| (2..w - 2).map(move |x| (x, y)))
+            .map(|(x, y)| (film.pixel(x, y)[0] - 0.5, film.standard_error(x, y)))
+            .collect();
+        let m = inner.len() as f64;
+        let spread = inner.iter().map(|v| v.0 * v.0).sum::<f64>() / m;
+        let reported = inner.iter().map(|v| v.1 * v.1).sum::<f64>() / m;
+        (spread, reported)
+    };
+    let (box_spread, box_reported) = noise(PixelFilter::Box);
+    let (gauss_spread, gauss_reported) = noise(PixelFilter::GAUSSIAN);
+    // The box: variance 1/12 over 8 samples.
+    assert!(
+        (box_spread / (1.0 / 96.0) - 1.0).abs() < 0.1,
+        "{box_spread}"
+    );
+    assert!((box_reported / box_spread - 1.0).abs() < 0.1);
+    let ratio = gauss_spread / box_spread;
+    assert!((0.25..0.42).contains(&ratio), "{ratio}");
+    assert!(
+        (gauss_reported / gauss_spread - 1.0).abs() < 0.15,
+        "{gauss_reported} {gauss_spread}"
+    );
 }
 
 #[test]

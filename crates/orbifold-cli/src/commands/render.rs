@@ -112,6 +112,7 @@ pub(crate) fn settings_and_options(
         noise_target: args.noise_target,
         adaptive: !args.no_adaptive,
         denoised: denoises(args, extension),
+        filter: args.filter,
     };
     (settings, options)
 }
