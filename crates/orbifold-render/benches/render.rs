@@ -8,7 +8,8 @@
 //! along one straight stretch of a camera ray (`footprint::sphere_coverage`, run for every
 //! stretch between mirrors), over 1 024 rays in each geometry. The radiance cache: 16 passes
 //! of the default room with and without it (the cache is read from the second pass on), and
-//! adding and looking up 100 000 estimates.
+//! adding and looking up 100 000 estimates. One round of a 896×896 image added to the film and
+//! the guides under the box and the Gaussian pixel filter.
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use std::sync::atomic::AtomicBool;
@@ -19,12 +20,15 @@ use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
 use orbifold_render::camera::Camera;
-use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
+use orbifold_render::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
+use orbifold_render::film::{Film, Splat};
+use orbifold_render::filter::PixelFilter;
 use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use orbifold_render::geodesic::Ray;
-use orbifold_render::integrator::{Integrator, Settings};
+use orbifold_render::integrator::{FirstHit, Integrator, Settings};
 use orbifold_render::radiance_cache::{Deposit, RadianceCache};
 use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::sampler::Sampler;
 use orbifold_scene::Scene;
 
 fn default_room(signature: &str) -> Scene {
@@ -201,12 +205,56 @@ fn footprint(c: &mut Criterion) {
     group.finish();
 }
 
+/// One round of a 896×896 image added to the film and the denoiser's guides: 802 816 samples
+/// at stratified offsets, with each filter.
+fn splatting(c: &mut Criterion) {
+    let mut group = c.benchmark_group("render");
+    group.sample_size(10);
+    let size = 896u32;
+    let samples: Vec<(Splat, FirstHit)> = (0..size * size)
+        .map(|p| {
+            let mut s = Sampler::stratified(1, u64::from(p), 0);
+            let splat = Splat {
+                x: p % size,
+                y: p / size,
+                offset: s.next_2d(),
+                radiance: [s.next_f64(), 0.5, 0.25],
+            };
+            let first = FirstHit {
+                albedo: [0.5; 3],
+                normal: DVec3::Z,
+                depth: 1.0 + s.next_f64(),
+                emitted: [0.0; 3],
+                direct: [0.1; 3],
+                ..FirstHit::default()
+            };
+            (splat, first)
+        })
+        .collect();
+    let splats: Vec<Splat> = samples.iter().map(|(s, _)| *s).collect();
+    group.throughput(Throughput::Elements(u64::from(size * size)));
+    for (name, filter) in [
+        ("box", PixelFilter::Box),
+        ("gaussian", PixelFilter::GAUSSIAN),
+    ] {
+        group.bench_function(format!("splat 896x896 {name}"), |b| {
+            let (mut film, mut guides) = (Film::new(size, size), Guides::new(size, size));
+            b.iter(|| {
+                film.splat_all(&splats, filter);
+                guides.splat_all(&samples, filter);
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     passes,
     cached_passes,
     radiance_cache,
     denoiser,
+    splatting,
     footprint
 );
 criterion_main!(benches);

@@ -31,7 +31,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::film::{Film, luminance};
+use crate::film::{Film, Splat, luminance};
 use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
 use crate::light::Rgb;
@@ -44,20 +44,111 @@ use crate::light::Rgb;
 pub struct Guides {
     width: u32,
     height: u32,
-    albedo: Vec<Rgb>,
-    normal: Vec<DVec3>,
-    depth: Vec<f64>,
-    depth2: Vec<f64>,
+    pixels: Vec<GuideSums>,
+}
+
+/// What one pixel has summed of the paths that count for it, each times its weight.
+#[derive(Clone, Copy, Debug, Default)]
+struct GuideSums {
+    albedo: Rgb,
+    normal: DVec3,
+    depth: f64,
+    depth2: f64,
     /// Σ of the light seen directly.
-    emitted: Vec<Rgb>,
+    emitted: Rgb,
     /// Σ of the first surface's light sample.
-    direct: Vec<Rgb>,
+    direct: Rgb,
     /// The luminance statistics of the light sample and of the rest of the reflected light.
-    direct_stats: Vec<Welford>,
-    rest_stats: Vec<Welford>,
-    /// Σ weight and Σ weight² of the paths that count for each pixel.
-    weight: Vec<f64>,
-    weight2: Vec<f64>,
+    direct_stats: Welford,
+    rest_stats: Welford,
+    /// Σ weight and Σ weight².
+    weight: f64,
+    weight2: f64,
+}
+
+/// What a path adds to the guides, worked out once for all the pixels it counts for.
+#[derive(Clone, Copy, Debug)]
+struct GuidePath<'a> {
+    first: &'a FirstHit,
+    /// The luminance of the light sample, and of the rest of the reflected light.
+    direct: f64,
+    rest: f64,
+}
+
+impl GuidePath<'_> {
+    /// The path, or `None` if anything it carries is not finite.
+    fn new(first: &FirstHit, radiance: Rgb) -> Option<GuidePath<'_>> {
+        let finite = first.albedo.iter().all(|a| a.is_finite())
+            && first.normal.is_finite()
+            && first.depth.is_finite()
+            && (first.emitted.iter())
+                .chain(&first.direct)
+                .chain(&radiance)
+                .all(|v| v.is_finite());
+        let direct = luminance(first.direct);
+        finite.then(|| GuidePath {
+            first,
+            direct,
+            rest: luminance(radiance) - luminance(first.emitted) - direct,
+        })
+    }
+}
+
+impl GuideSums {
+    /// Counts a path with weight `w` > 0.
+    fn add(&mut self, path: &GuidePath<'_>, w: f64) {
+        let first = path.first;
+        for c in 0..3 {
+            self.emitted[c] += w * first.emitted[c];
+            self.direct[c] += w * first.direct[c];
+            self.albedo[c] += w * first.albedo[c];
+        }
+        self.weight += w;
+        self.weight2 += w * w;
+        let share = w / self.weight;
+        self.direct_stats.add(path.direct, w, share);
+        self.rest_stats.add(path.rest, w, share);
+        self.normal += w * first.normal;
+        self.depth += w * first.depth;
+        self.depth2 += w * first.depth * first.depth;
+    }
+
+    /// The weighted mean of a sum.
+    fn mean(&self, sum: Rgb) -> Rgb {
+        if self.weight > 0.0 {
+            sum.map(|s| s / self.weight)
+        } else {
+            [0.0; 3]
+        }
+    }
+
+    fn mean_depth(&self) -> f64 {
+        if self.weight > 0.0 {
+            self.depth / self.weight
+        } else {
+            0.0
+        }
+    }
+
+    /// The standard error of the weighted mean of the values that `stats` follows.
+    fn standard_error(&self, stats: &Welford) -> f64 {
+        stats.standard_error(self.weight, self.weight2)
+    }
+
+    /// How much the paths agree on what they saw first, in [0, 1]: the length of their mean
+    /// normal times a falloff with the spread of their depths (1: one surface; near 0: the
+    /// pixel covers many things smaller than itself, such as far mirror images). 1 below two
+    /// paths (effectively: (Σw)²/Σw² < 2).
+    fn coherence(&self) -> f64 {
+        let (w, w2) = (self.weight, self.weight2);
+        if w2 <= 0.0 || w * w < (2.0 - 1e-9) * w2 {
+            return 1.0;
+        }
+        let mean = self.depth / w;
+        let spread = (self.depth2 / w - mean * mean).max(0.0).sqrt();
+        let normals = (self.normal.length() / w).min(1.0);
+        normals / (1.0 + COHERENCE_DEPTH * spread / mean.max(1e-9))
+    }
 }
 
 impl Guides {
@@ -78,16 +169,7 @@ impl Guides {
         Guides {
             width,
             height,
-            albedo: vec![[0.0; 3]; n],
-            normal: vec![DVec3::ZERO; n],
-            depth: vec![0.0; n],
-            depth2: vec![0.0; n],
-            emitted: vec![[0.0; 3]; n],
-            direct: vec![[0.0; 3]; n],
-            direct_stats: vec![Welford::default(); n],
-            rest_stats: vec![Welford::default(); n],
-            weight: vec![0.0; n],
-            weight2: vec![0.0; n],
+            pixels: vec![GuideSums::default(); n],
         }
     }
 
@@ -104,7 +186,9 @@ impl Guides {
     /// only (the box filter, as [`Film::add`]).
     pub fn add(&mut self, x: u32, y: u32, first: &FirstHit, radiance: Rgb) {
         let i = self.index(x, y);
-        self.add_weighted(i, first, radiance, 1.0);
+        if let Some(path) = GuidePath::new(first, radiance) {
+            self.pixels[i].add(&path, 1.0);
+        }
     }
 
     /// Adds what a path taken for pixel (x, y) at `offset` within it saw first to every pixel that
@@ -130,50 +214,38 @@ impl Guides {
         filter: PixelFilter,
     ) {
         self.index(x, y);
+        let Some(path) = GuidePath::new(first, radiance) else {
+            return;
+        };
         for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
             let k = self.index(i, j);
-            self.add_weighted(k, first, radiance, w);
+            self.pixels[k].add(&path, w);
         }
     }
 
-    /// Counts a path for pixel `i` with weight `w` > 0.
-    fn add_weighted(&mut self, i: usize, first: &FirstHit, radiance: Rgb, w: f64) {
-        let finite = first.albedo.iter().all(|a| a.is_finite())
-            && first.normal.is_finite()
-            && first.depth.is_finite()
-            && (first.emitted.iter())
-                .chain(&first.direct)
-                .chain(&radiance)
-                .all(|v| v.is_finite());
-        if !finite {
-            return;
+    /// [`Guides::splat`] for many paths at once, in parallel over rows as
+    /// [`Film::splat_all`]: each sample's pixel, offset and radiance, with what its path saw
+    /// first.
+    ///
+    /// # Panics
+    ///
+    /// If a sample's pixel is outside the guides, or the samples are not in row order.
+    pub fn splat_all(&mut self, samples: &[(Splat, FirstHit)], filter: PixelFilter) {
+        for (s, _) in samples {
+            self.index(s.x, s.y);
         }
-        for c in 0..3 {
-            self.emitted[i][c] += w * first.emitted[c];
-            self.direct[i][c] += w * first.direct[c];
-            self.albedo[i][c] += w * first.albedo[c];
-        }
-        let direct = luminance(first.direct);
-        let rest = luminance(radiance) - luminance(first.emitted) - direct;
-        self.weight[i] += w;
-        self.weight2[i] += w * w;
-        self.direct_stats[i].add(direct, w, self.weight[i]);
-        self.rest_stats[i].add(rest, w, self.weight[i]);
-        self.normal[i] += w * first.normal;
-        self.depth[i] += w * first.depth;
-        self.depth2[i] += w * first.depth * first.depth;
-    }
-
-    /// The effective number of paths behind pixel `i`'s means, (Σw)²/Σw² (their number for
-    /// unit weights).
-    fn effective_paths(&self, i: usize) -> f64 {
-        let (w, w2) = (self.weight[i], self.weight2[i]);
-        if w2 > 0.0 { w * w / w2 } else { 0.0 }
-    }
-
-    /// The standard error of pixel `i`'s weighted mean of the values that `stats` follows.
-    fn standard_error(&self, i: usize, stats: &Welford) -> f64 {
-        stats.standard_error(self.weight[i], self.weight2[i])
+        let size = (self.width, self.height);
+        filter.splat_rows(
+            &mut self.pixels,
+            size,
+            samples,
+            |(s, _)| (s.x, s.y, s.offset),
+            |pixel, (s, first), w| {
+                if let Some(path) = GuidePath::new(first, s.radiance) {
+                    pixel.add(&path, w);
+                }
+            },
+        );
     }
 
     /// The mean albedo at pixel (x, y).
@@ -189,17 +261,8 @@ impl Guides {
     }
 
     fn mean_emitted(&self, i: usize) -> Rgb {
-        self.mean_of(&self.emitted, i)
-    }
-
-    /// The mean at pixel `i` of a per-pixel sum over its paths.
-    fn mean_of(&self, sums: &[Rgb], i: usize) -> Rgb {
-        let w = self.weight[i];
-        if w > 0.0 {
-            sums[i].map(|s| s / w)
-        } else {
-            [0.0; 3]
-        }
+        let p = &self.pixels[i];
+        p.mean(p.emitted)
     }
 
     /// The mean of the first surface's light sample at pixel (x, y) ([`FirstHit::direct`]).
@@ -209,34 +272,25 @@ impl Guides {
     }
 
     fn mean_direct(&self, i: usize) -> Rgb {
-        self.mean_of(&self.direct, i)
+        let p = &self.pixels[i];
+        p.mean(p.direct)
     }
 
     fn mean_albedo(&self, i: usize) -> Rgb {
-        self.mean_of(&self.albedo, i)
+        let p = &self.pixels[i];
+        p.mean(p.albedo)
     }
 
     fn mean_normal(&self, i: usize) -> DVec3 {
-        self.normal[i].normalize_or_zero()
+        self.pixels[i].normal.normalize_or_zero()
     }
 
     fn mean_depth(&self, i: usize) -> f64 {
-        let w = self.weight[i];
-        if w > 0.0 { self.depth[i] / w } else { 0.0 }
+        self.pixels[i].mean_depth()
     }
 
-    /// How much the paths through pixel `i` agree on what they saw first, in [0, 1]: the length
-    /// of their mean normal times a falloff with the spread of their depths (1: one surface; near
-    /// 0: the pixel covers many things smaller than itself, such as far mirror images).
     fn coherence(&self, i: usize) -> f64 {
-        if self.effective_paths(i) < 2.0 - 1e-9 {
-            return 1.0;
-        }
-        let w = self.weight[i];
-        let mean = self.depth[i] / w;
-        let spread = (self.depth2[i] / w - mean * mean).max(0.0).sqrt();
-        let normals = (self.normal[i].length() / w).min(1.0);
-        normals / (1.0 + COHERENCE_DEPTH * spread / mean.max(1e-9))
+        self.pixels[i].coherence()
     }
 }
 
@@ -249,10 +303,10 @@ struct Welford {
 }
 
 impl Welford {
-    /// Adds `value` with weight `w`, the weights' sum now being `total`.
-    fn add(&mut self, value: f64, w: f64, total: f64) {
+    /// Adds `value` with weight `w`, whose share of the weights' sum (with it) is `share`.
+    fn add(&mut self, value: f64, w: f64, share: f64) {
         let delta = value - self.mean;
-        self.mean += delta * w / total;
+        self.mean += delta * share;
         self.m2 += w * delta * (value - self.mean);
     }
 
@@ -398,7 +452,7 @@ pub fn denoise_with_reduction(
     let emitted: Vec<Rgb> = (0..n).map(|i| guides.mean_emitted(i)).collect();
     let over_albedo = |i: usize, value: Rgb, stats: &Welford| {
         let a = albedo[i];
-        let se = guides.standard_error(i, stats);
+        let se = guides.pixels[i].standard_error(stats);
         let scale = luminance(a).max(ALBEDO_FLOOR);
         let variance = if se.is_finite() {
             (se / scale).powi(2)
@@ -411,7 +465,7 @@ pub fn denoise_with_reduction(
         )
     };
     let (lighting, variance) = (0..n)
-        .map(|i| over_albedo(i, guides.mean_direct(i), &guides.direct_stats[i]))
+        .map(|i| over_albedo(i, guides.mean_direct(i), &guides.pixels[i].direct_stats))
         .unzip();
     let direct = Part { lighting, variance };
     let (lighting, variance) = (0..n)
@@ -419,7 +473,7 @@ pub fn denoise_with_reduction(
             let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
             let (c, e, d) = (film.pixel(x, y), emitted[i], guides.mean_direct(i));
             let value = [0, 1, 2].map(|k| c[k] - e[k] - d[k]);
-            over_albedo(i, value, &guides.rest_stats[i])
+            over_albedo(i, value, &guides.pixels[i].rest_stats)
         })
         .unzip();
     let rest = Part { lighting, variance };

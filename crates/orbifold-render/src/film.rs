@@ -58,19 +58,73 @@ pub const NOISE_LUMINANCE_OFFSET: f64 = 1e-2;
 pub struct Film {
     width: u32,
     height: u32,
-    /// Σ weight × radiance per pixel.
-    sum: Vec<[f64; 3]>,
-    /// Σ weight and Σ weight² per pixel, over the samples that count for it.
-    weight: Vec<f64>,
-    weight2: Vec<f64>,
+    /// What each pixel has summed of the samples that count for it.
+    pixels: Vec<Accumulator>,
     /// The number of (finite) samples taken for each pixel (whatever other pixels they count for).
     count: Vec<u64>,
-    /// The weighted running mean of the sample luminance per pixel.
-    lum_mean: Vec<f64>,
-    /// Σ weight × (luminance − mean)² per pixel (the weighted M2).
-    lum_m2: Vec<f64>,
     /// Samples with a non-finite component, counted and not stored.
     dropped: u64,
+}
+
+/// A radiance sample for [`Film::splat_all`]: taken for pixel (`x`, `y`) at `offset` ∈ [0, 1)²
+/// within it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Splat {
+    /// The pixel's column.
+    pub x: u32,
+    /// The pixel's row.
+    pub y: u32,
+    /// Where in the pixel the sample lies.
+    pub offset: (f64, f64),
+    /// Its radiance.
+    pub radiance: [f64; 3],
+}
+
+/// What a pixel has summed of the samples that count for it, with their weights.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Accumulator {
+    /// Σ weight × radiance.
+    sum: [f64; 3],
+    /// Σ weight and Σ weight².
+    weight: f64,
+    weight2: f64,
+    /// The weighted running mean of the sample luminance.
+    lum_mean: f64,
+    /// Σ weight × (luminance − mean)² (the weighted M2).
+    lum_m2: f64,
+}
+
+impl Accumulator {
+    /// Counts a finite sample with weight `w` > 0 (West 1979: the weighted form of Welford's
+    /// update).
+    fn add(&mut self, radiance: [f64; 3], w: f64) {
+        for (acc, c) in self.sum.iter_mut().zip(radiance) {
+            *acc += w * c;
+        }
+        self.weight += w;
+        self.weight2 += w * w;
+        let l = luminance(radiance);
+        let delta = l - self.lum_mean;
+        self.lum_mean += delta * w / self.weight;
+        self.lum_m2 += w * delta * (l - self.lum_mean);
+    }
+
+    /// Adds another pixel's sums (Chan et al.'s formula for the deviations).
+    fn merge(&mut self, other: &Accumulator) {
+        let (wa, wb) = (self.weight, other.weight);
+        if wb == 0.0 {
+            return;
+        }
+        for (acc, c) in self.sum.iter_mut().zip(other.sum) {
+            *acc += c;
+        }
+        let w = wa + wb;
+        let delta = other.lum_mean - self.lum_mean;
+        self.lum_mean += delta * wb / w;
+        self.lum_m2 += other.lum_m2 + delta * delta * wa * wb / w;
+        self.weight = w;
+        self.weight2 += other.weight2;
+    }
 }
 
 impl Film {
@@ -87,12 +141,8 @@ impl Film {
         Film {
             width,
             height,
-            sum: vec![[0.0; 3]; n],
-            weight: vec![0.0; n],
-            weight2: vec![0.0; n],
+            pixels: vec![Accumulator::default(); n],
             count: vec![0; n],
-            lum_mean: vec![0.0; n],
-            lum_m2: vec![0.0; n],
             dropped: 0,
         }
     }
@@ -184,7 +234,7 @@ impl Film {
             return;
         }
         self.count[i] += 1;
-        self.add_weighted(i, radiance, 1.0);
+        self.pixels[i].add(radiance, 1.0);
     }
 
     /// Adds a sample taken for pixel (x, y) at `offset` ∈ [0, 1)² within it to every pixel that
@@ -222,22 +272,52 @@ impl Film {
         self.count[own] += 1;
         for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
             let k = self.index(i, j);
-            self.add_weighted(k, radiance, w);
+            self.pixels[k].add(radiance, w);
         }
     }
 
-    /// Counts a finite sample for pixel `i` with weight `w` > 0 (West 1979: the weighted form of
-    /// Welford's update).
-    fn add_weighted(&mut self, i: usize, radiance: [f64; 3], w: f64) {
-        for (acc, c) in self.sum[i].iter_mut().zip(radiance) {
-            *acc += w * c;
+    /// [`Film::splat`] for many samples at once, in parallel over the rows they count for (the
+    /// sums come out as if they were splatted one after the other in `samples`' order, whatever
+    /// the number of threads).
+    ///
+    /// # Panics
+    ///
+    /// If a sample's pixel is outside the film, or the samples are not in row order.
+    ///
+    /// ```
+    /// use orbifold_render::film::{Film, Splat};
+    /// use orbifold_render::filter::PixelFilter;
+    ///
+    /// let samples = [
+    ///     Splat { x: 1, y: 0, offset: (0.2, 0.7), radiance: [1.0; 3] },
+    ///     Splat { x: 0, y: 1, offset: (0.9, 0.1), radiance: [3.0; 3] },
+    /// ];
+    /// let (mut one_by_one, mut at_once) = (Film::new(3, 2), Film::new(3, 2));
+    /// for s in &samples {
+    ///     one_by_one.splat(s.x, s.y, s.offset, s.radiance, PixelFilter::GAUSSIAN);
+    /// }
+    /// at_once.splat_all(&samples, PixelFilter::GAUSSIAN);
+    /// assert_eq!(one_by_one, at_once);
+    /// ```
+    pub fn splat_all(&mut self, samples: &[Splat], filter: PixelFilter) {
+        let finite: Vec<Splat> = samples
+            .iter()
+            .filter(|s| s.radiance.iter().all(|c| c.is_finite()))
+            .copied()
+            .collect();
+        self.dropped += (samples.len() - finite.len()) as u64;
+        for s in &finite {
+            let own = self.index(s.x, s.y);
+            self.count[own] += 1;
         }
-        self.weight[i] += w;
-        self.weight2[i] += w * w;
-        let l = luminance(radiance);
-        let delta = l - self.lum_mean[i];
-        self.lum_mean[i] += delta * w / self.weight[i];
-        self.lum_m2[i] += w * delta * (l - self.lum_mean[i]);
+        let (width, height) = (self.width, self.height);
+        filter.splat_rows(
+            &mut self.pixels,
+            (width, height),
+            &finite,
+            |s| (s.x, s.y, s.offset),
+            |pixel, s, w| pixel.add(s.radiance, w),
+        );
     }
 
     /// Adds one sample to every pixel of row `y`: `row[x]` goes to pixel (x, y). Convenient with
@@ -300,22 +380,9 @@ impl Film {
             self.width,
             self.height
         );
-        for i in 0..self.sum.len() {
+        for (i, pixel) in self.pixels.iter_mut().enumerate() {
             self.count[i] += other.count[i];
-            let wb = other.weight[i];
-            if wb == 0.0 {
-                continue;
-            }
-            let wa = self.weight[i];
-            for (acc, c) in self.sum[i].iter_mut().zip(other.sum[i]) {
-                *acc += c;
-            }
-            let w = wa + wb;
-            let delta = other.lum_mean[i] - self.lum_mean[i];
-            self.lum_mean[i] += delta * wb / w;
-            self.lum_m2[i] += other.lum_m2[i] + delta * delta * wa * wb / w;
-            self.weight[i] = w;
-            self.weight2[i] += other.weight2[i];
+            pixel.merge(&other.pixels[i]);
         }
         self.dropped += other.dropped;
     }
@@ -339,11 +406,11 @@ impl Film {
     }
 
     fn mean_at(&self, i: usize) -> [f64; 3] {
-        let w = self.weight[i];
-        if w == 0.0 {
+        let p = &self.pixels[i];
+        if p.weight == 0.0 {
             return [0.0; 3];
         }
-        self.sum[i].map(|s| s / w)
+        p.sum.map(|s| s / p.weight)
     }
 
     /// The number of samples taken for pixel (x, y) (dropped ones are not counted); with a
@@ -382,10 +449,11 @@ impl Film {
     /// unbiased weighted sample variance s² = M2/(Σw − Σw²/Σw) (for unit weights M2/(n − 1) and
     /// s²/n); `None` while the samples' effective number (Σw)²/Σw² is at most one.
     fn mean_variance_at(&self, i: usize) -> Option<f64> {
-        let (w, w2) = (self.weight[i], self.weight2[i]);
+        let p = &self.pixels[i];
+        let (w, w2) = (p.weight, p.weight2);
         let effective = if w2 > 0.0 { w * w / w2 } else { 0.0 };
         (effective > 1.0 + 1e-9).then(|| {
-            let s2 = (self.lum_m2[i] / (w - w2 / w)).max(0.0);
+            let s2 = (p.lum_m2 / (w - w2 / w)).max(0.0);
             s2 * w2 / (w * w)
         })
     }

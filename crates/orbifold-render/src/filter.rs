@@ -16,6 +16,7 @@
 //! their standard errors keep their meaning ([`crate::film::Film::standard_error`]).
 
 use arrayvec::ArrayVec;
+use rayon::prelude::*;
 
 /// Most pixels one sample counts for: a radius of at most two pixels reaches at most four pixel
 /// centres along each axis (the default Gaussian's 1.5 pixels, three).
@@ -85,6 +86,9 @@ impl PixelFilter {
         match self {
             PixelFilter::Box => f64::from(u8::from(d.abs() <= 0.5)),
             PixelFilter::Gaussian { sigma, radius } => {
+                if d.abs() >= radius {
+                    return 0.0;
+                }
                 let g = |x: f64| (-x * x / (2.0 * sigma * sigma)).exp();
                 (g(d) - g(radius)).max(0.0)
             }
@@ -103,31 +107,92 @@ impl PixelFilter {
         height: u32,
     ) -> ArrayVec<(u32, u32, f64), MOST_PIXELS> {
         let mut pixels = ArrayVec::new();
-        let PixelFilter::Gaussian { radius, .. } = self else {
-            pixels.push((x, y, 1.0));
-            return pixels;
-        };
-        let axis = |pixel: u32, offset: f64, size: u32| {
-            // Pixel k's centre is at k + ½; the sample at pixel + offset.
-            let at = f64::from(pixel) + offset;
-            let first = (at - radius - 0.5).ceil().max(0.0) as u32;
-            let last = ((at + radius - 0.5).floor() as u32).min(size - 1);
-            let mut weights = ArrayVec::<(u32, f64), 4>::new();
-            for k in first..=last {
-                let w = self.weight_1d(at - (f64::from(k) + 0.5));
-                if w > 0.0 && !weights.is_full() {
-                    weights.push((k, w));
-                }
-            }
-            weights
-        };
-        let (across, down) = (axis(x, offset.0, width), axis(y, offset.1, height));
-        for &(j, wy) in &down {
+        let across = self.axis_weights(x, offset.0, width);
+        for (j, wy) in self.axis_weights(y, offset.1, height) {
             for &(i, wx) in &across {
                 pixels.push((i, j, wx * wy));
             }
         }
         pixels
+    }
+
+    /// Along one axis of `size` pixels, the pixels that a sample at `offset` within pixel
+    /// `pixel` counts for, with the filter's weight along that axis (the box: its own, 1).
+    fn axis_weights(self, pixel: u32, offset: f64, size: u32) -> ArrayVec<(u32, f64), 4> {
+        let mut weights = ArrayVec::new();
+        let PixelFilter::Gaussian { radius, .. } = self else {
+            weights.push((pixel, 1.0));
+            return weights;
+        };
+        // Pixel k's centre is at k + ½; the sample at pixel + offset.
+        let at = f64::from(pixel) + offset;
+        let first = (at - radius - 0.5).ceil().max(0.0) as u32;
+        let last = ((at + radius - 0.5).floor() as u32).min(size - 1);
+        for k in first..=last {
+            let w = self.weight_1d(at - (f64::from(k) + 0.5));
+            if w > 0.0 && !weights.is_full() {
+                weights.push((k, w));
+            }
+        }
+        weights
+    }
+
+    /// How many rows above and below its own a sample can count for.
+    fn reach(self) -> u32 {
+        match self {
+            PixelFilter::Box => 0,
+            PixelFilter::Gaussian { radius, .. } => (radius - 0.5).max(0.0).ceil() as u32,
+        }
+    }
+
+    /// Adds `samples` (in row order) to the per-pixel `state` of a `width` × `height` image,
+    /// row by row in parallel: `add(pixel, sample, weight)` for every pixel that `place(sample)`
+    /// = (column, row, offset) counts for. Each pixel receives its samples in `samples`' order,
+    /// so the result does not depend on the number of threads.
+    ///
+    /// # Panics
+    ///
+    /// If the samples are not in row order (the rows they count for are found by bisection) or
+    /// `state` does not hold `width` × `height` pixels.
+    pub(crate) fn splat_rows<S: Sync, P: Send>(
+        self,
+        state: &mut [P],
+        (width, height): (u32, u32),
+        samples: &[S],
+        place: impl Fn(&S) -> (u32, u32, (f64, f64)) + Sync,
+        add: impl Fn(&mut P, &S, f64) + Sync,
+    ) {
+        assert_eq!(
+            state.len(),
+            width as usize * height as usize,
+            "one state a pixel"
+        );
+        assert!(
+            samples.windows(2).all(|p| place(&p[0]).1 <= place(&p[1]).1),
+            "samples to splat must be in row order"
+        );
+        if width == 0 {
+            return;
+        }
+        let reach = self.reach();
+        state
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                let y = y as u32;
+                let start = samples.partition_point(|s| place(s).1 + reach < y);
+                let end = samples.partition_point(|s| place(s).1 <= y + reach);
+                for sample in &samples[start..end] {
+                    let (sx, sy, offset) = place(sample);
+                    let wy = self.weight_1d(f64::from(sy) + offset.1 - (f64::from(y) + 0.5));
+                    if wy <= 0.0 {
+                        continue;
+                    }
+                    for (x, wx) in self.axis_weights(sx, offset.0, width) {
+                        add(&mut row[x as usize], sample, wx * wy);
+                    }
+                }
+            });
     }
 }
 

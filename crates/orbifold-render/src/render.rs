@@ -36,9 +36,9 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
-use crate::film::Film;
+use crate::film::{Film, Splat};
 use crate::filter::PixelFilter;
-use crate::integrator::{Integrator, PathSample, Settings};
+use crate::integrator::{FirstHit, Integrator, PathSample, Settings};
 use crate::radiance_cache::RadianceCache;
 use crate::sampler::Sampler;
 
@@ -315,17 +315,23 @@ impl<'a> Progressive<'a> {
                 .map(|p| trace(p, taken[p as usize]))
                 .collect(),
         };
-        let filter = options.filter;
-        for (pixel, offset, value) in &results {
-            let (i, j) = (
-                (pixel % u64::from(width)) as u32,
-                (pixel / u64::from(width)) as u32,
-            );
-            self.film.splat(i, j, *offset, value.radiance, filter);
-            self.guides
-                .splat(i, j, *offset, &value.first, value.radiance, filter);
-            self.taken[*pixel as usize] += 1;
-        }
+        // In pixel order, so in row order as splatting wants.
+        let samples: Vec<(Splat, FirstHit)> = results
+            .iter()
+            .map(|&(pixel, offset, ref value)| {
+                self.taken[pixel as usize] += 1;
+                let splat = Splat {
+                    x: (pixel % u64::from(width)) as u32,
+                    y: (pixel / u64::from(width)) as u32,
+                    offset,
+                    radiance: value.radiance,
+                };
+                (splat, value.first)
+            })
+            .collect();
+        let splats: Vec<Splat> = samples.iter().map(|(s, _)| *s).collect();
+        self.film.splat_all(&splats, options.filter);
+        self.guides.splat_all(&samples, options.filter);
         if let Some(cache) = &mut self.cache {
             let deposits: Vec<_> = results.iter().filter_map(|(_, _, v)| v.deposit).collect();
             cache.add_all(&deposits);
