@@ -226,7 +226,6 @@ fn splatting(c: &mut Criterion) {
                 depth: 1.0 + s.next_f64(),
                 emitted: [0.0; 3],
                 direct: [0.1; 3],
-                ..FirstHit::default()
             };
             (splat, first)
         })
