@@ -133,6 +133,7 @@ fn bad_input_is_a_clear_error_and_writes_nothing() {
             "positive number of seconds",
         ),
         (vec!["missing.toml"], "missing.toml"),
+        (vec!["*2223", "--filter", "mitchell"], "box, gaussian"),
     ] {
         let mut command = orbifold();
         command.arg("render").args(&args);
@@ -272,4 +273,19 @@ fn no_radiance_cache_traces_every_path_in_full() {
     // From the second pass on, far surfaces and the ends of diffuse bounces read the radiance
     // cache; without it every path is traced in full, so the same seed gives another image.
     assert_flag_changes_the_image("--no-radiance-cache", 4);
+}
+
+#[test]
+fn the_box_filter_is_sharper_than_the_default_gaussian() {
+    // The same seed and samples, each sample counted for its own pixel only: another image, and
+    // the summary says which filter made it.
+    assert_flag_changes_the_image("--filter=box", 2);
+    let tmp = temp();
+    let png = tmp.path().join("box.png");
+    let out = png.to_str().unwrap();
+    for (args, filter) in [(vec![], "gaussian"), (vec!["--filter", "box"], "box")] {
+        let mut all = vec!["-o", out, "--size", "16x12", "--spp", "1"];
+        all.extend(args);
+        assert_eq!(render(&all)["filter"], filter);
+    }
 }

@@ -3,9 +3,9 @@
 //!
 //! A pixel's value is the weighted mean Σ w(xᵢ − c) Lᵢ / Σ w(xᵢ − c) of the samples xᵢ around its
 //! centre c. The **box** of one pixel counts every sample for its own pixel only. The
-//! **Gaussian** (σ = 0.5 pixel, cut off at 1.5 pixels: the default of pbrt-v4, and the
-//! `gaussian` filter that Mitsuba uses by default, with which the seed's images were made) lets
-//! a sample count for the pixels within 1.5 pixels of it, by how near it is to their centres.
+//! **Gaussian** (σ = 0.5 pixel, cut off at 1.5 pixels: the default of pbrt-v4; Mitsuba 3's
+//! default is the same Gaussian cut off at 2 pixels) lets a sample count for the pixels within
+//! 1.5 pixels of it, by how near it is to their centres.
 //! Each pixel then averages the samples of about π·1.5² pixels: for independent noise its
 //! variance is about a third of the box's (1/(4πσ²) for the untruncated Gaussian), and detail
 //! finer than a pixel — the crowd of far mirror images at a hyperbolic room's horizon — is
@@ -57,7 +57,7 @@ impl Default for PixelFilter {
 }
 
 impl PixelFilter {
-    /// The Gaussian of pbrt-v4 and Mitsuba: σ = 0.5 pixel, cut off at 1.5 pixels.
+    /// The Gaussian of pbrt-v4: σ = 0.5 pixel, cut off at 1.5 pixels.
     pub const GAUSSIAN: PixelFilter = PixelFilter::Gaussian {
         sigma: 0.5,
         radius: 1.5,
@@ -78,6 +78,22 @@ impl PixelFilter {
             other => Err(format!(
                 "unknown pixel filter '{other}' (the filters are: box, gaussian)"
             )),
+        }
+    }
+
+    /// The filter's name, as [`PixelFilter::from_name`] reads it (`gaussian` whatever its σ and
+    /// radius).
+    ///
+    /// ```
+    /// use orbifold_render::filter::PixelFilter;
+    ///
+    /// assert_eq!(PixelFilter::default().name(), "gaussian");
+    /// assert_eq!(PixelFilter::from_name("box").unwrap().name(), "box");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            PixelFilter::Box => "box",
+            PixelFilter::Gaussian { .. } => "gaussian",
         }
     }
 

@@ -33,6 +33,8 @@ struct Summary {
     dropped_samples: u64,
     exposure: f64,
     denoised: bool,
+    /// The pixel reconstruction filter's name.
+    filter: &'static str,
 }
 
 /// The scene to render: a file, the default room of a signature, or the built-in default.
@@ -207,6 +209,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         dropped_samples: rendered.film.dropped(),
         exposure,
         denoised,
+        filter: args.image.filter.name(),
     };
     output::summary(args.json, &summary, || {
         format!(
