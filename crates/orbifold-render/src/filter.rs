@@ -43,8 +43,8 @@ pub enum PixelFilter {
     Gaussian {
         /// Standard deviation in pixels.
         sigma: f64,
-        /// Where the filter is cut off, in pixels (at most 2; pixels beyond four along an axis
-        /// are left out).
+        /// Where the filter is cut off, in pixels: more than ½ (so that a sample always counts
+        /// for its own pixel) and at most 2 (pixels beyond four along an axis are left out).
         radius: f64,
     },
 }
