@@ -217,13 +217,14 @@ pub struct ImageArgs {
     /// Keep the raw path-traced image (the default for EXR).
     #[arg(long)]
     pub no_denoise: bool,
-    /// The pixel reconstruction filter: `gaussian` (σ = 0.5 pixel, cut off at 1.5: the default
-    /// of pbrt and Mitsuba; each sample counts for the pixels within 1.5 pixels of it, which
-    /// averages away about two thirds of the per-pixel variance and the grain of sub-pixel
-    /// detail, for a slightly softer image) or `box` (each sample counts for its own pixel only:
-    /// sharper, noisier).
-    #[arg(long, value_name = "gaussian|box", default_value = "gaussian", value_parser = parse_filter)]
-    pub filter: orbifold_render::filter::PixelFilter,
+    /// The pixel reconstruction filter (default: the scene's `filter`, which is `gaussian`
+    /// unless it says otherwise): `gaussian` (σ = 0.5 pixel, cut off at 1.5, as in pbrt and
+    /// Mitsuba; each sample counts for the pixels within 1.5 pixels of it, which averages away
+    /// about two thirds of the per-pixel variance and the grain of sub-pixel detail, for a
+    /// slightly softer image) or `box` (each sample counts for its own pixel only: sharper,
+    /// noisier).
+    #[arg(long, value_name = "gaussian|box", value_parser = parse_filter)]
+    pub filter: Option<orbifold_render::filter::PixelFilter>,
     /// Exposure in stops for PNG and JPEG tone mapping (default: automatic, the log-average
     /// luminance to middle grey 0.18; for an animation, that of a small render of frame 0).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]

@@ -289,3 +289,34 @@ fn the_box_filter_is_sharper_than_the_default_gaussian() {
         assert_eq!(render(&all)["filter"], filter);
     }
 }
+
+#[test]
+fn a_scene_s_render_table_names_its_filter_and_the_flag_overrides_it() {
+    let tmp = temp();
+    let base = std::fs::read_to_string(scenes().join("default.toml")).unwrap();
+    let scene = |name: &str, filter: &str| {
+        let path = tmp.path().join(name);
+        std::fs::write(&path, format!("{base}\n[render]\nfilter = \"{filter}\"\n")).unwrap();
+        path
+    };
+    let (boxed, gaussian) = (scene("box.toml", "box"), scene("gaussian.toml", "gaussian"));
+    let png = tmp.path().join("out.png");
+    let summary = |scene: &PathBuf, flags: &[&str]| {
+        let mut args = vec![scene.to_str().unwrap(), "-o", png.to_str().unwrap()];
+        args.extend_from_slice(&["--size", "16x12", "--spp", "1"]);
+        args.extend_from_slice(flags);
+        render(&args)["filter"].as_str().unwrap().to_string()
+    };
+    assert_eq!(summary(&boxed, &[]), "box");
+    assert_eq!(summary(&gaussian, &[]), "gaussian");
+    assert_eq!(summary(&boxed, &["--filter", "gaussian"]), "gaussian");
+    // A filter the scene format does not know is an error that names the field.
+    let bad = scene("bad.toml", "mitchell");
+    orbifold()
+        .arg("render")
+        .arg(&bad)
+        .args(["-o", png.to_str().unwrap()])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("mitchell"));
+}

@@ -16,6 +16,7 @@
 //! their standard errors keep their meaning ([`crate::film::Film::standard_error`]).
 
 use arrayvec::ArrayVec;
+use orbifold_scene::ReconstructionFilter;
 use rayon::prelude::*;
 
 /// Most pixels one sample counts for: a radius of at most two pixels reaches at most four pixel
@@ -53,6 +54,24 @@ impl Default for PixelFilter {
     /// The Gaussian of σ = 0.5 and radius 1.5 pixels ([`PixelFilter::GAUSSIAN`]).
     fn default() -> Self {
         PixelFilter::GAUSSIAN
+    }
+}
+
+impl From<ReconstructionFilter> for PixelFilter {
+    /// The filter a scene's `[render]` table names.
+    ///
+    /// ```
+    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_scene::ReconstructionFilter;
+    ///
+    /// assert_eq!(PixelFilter::from(ReconstructionFilter::Box), PixelFilter::Box);
+    /// assert_eq!(PixelFilter::from(ReconstructionFilter::default()), PixelFilter::GAUSSIAN);
+    /// ```
+    fn from(filter: ReconstructionFilter) -> Self {
+        match filter {
+            ReconstructionFilter::Gaussian => PixelFilter::GAUSSIAN,
+            ReconstructionFilter::Box => PixelFilter::Box,
+        }
     }
 }
 

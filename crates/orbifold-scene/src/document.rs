@@ -503,6 +503,20 @@ pub struct Render {
     /// Light as if space were flat: straight rays through the room's model picture instead of
     /// the geodesics (the seed's Fig. 8.1a; `orbifold render --straight-rays`). Off by default.
     pub straight_rays: bool,
+    /// How each sample counts for the pixels around it (`orbifold render --filter`).
+    pub filter: ReconstructionFilter,
+}
+
+/// The pixel reconstruction filter of a render (`orbifold_render::filter::PixelFilter`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum ReconstructionFilter {
+    /// pbrt's Gaussian, σ = 0.5 pixel, cut off at 1.5: each sample counts for the pixels within
+    /// 1.5 pixels of it (less noise, a softer image).
+    #[default]
+    Gaussian,
+    /// Each sample counts for its own pixel only (sharper, noisier).
+    Box,
 }
 
 impl Default for Render {
@@ -513,6 +527,7 @@ impl Default for Render {
             samples: 64,
             max_depth: 32,
             straight_rays: false,
+            filter: ReconstructionFilter::Gaussian,
         }
     }
 }

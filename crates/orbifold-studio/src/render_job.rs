@@ -143,7 +143,10 @@ fn run(
     };
     let camera = Camera::new(integrator.space(), camera);
     // Rounds of the stratified, adaptive sampler; the picture is shared after each.
-    let options = RenderOptions::new(size.0, size.1, samples, 0);
+    let options = RenderOptions {
+        filter: scene.render.filter.into(),
+        ..RenderOptions::new(size.0, size.1, samples, 0)
+    };
     let mut progressive = Progressive::new(&integrator, &camera, &options);
     while progressive.paths() < progressive.budget() && !cancel.load(Ordering::Relaxed) {
         progressive.round();

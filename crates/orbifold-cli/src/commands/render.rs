@@ -114,7 +114,7 @@ pub(crate) fn settings_and_options(
         noise_target: args.noise_target,
         adaptive: !args.no_adaptive,
         denoised: denoises(args, extension),
-        filter: args.filter,
+        filter: args.filter.unwrap_or(scene.render.filter.into()),
     };
     (settings, options)
 }
@@ -209,7 +209,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         dropped_samples: rendered.film.dropped(),
         exposure,
         denoised,
-        filter: args.image.filter.name(),
+        filter: options.filter.name(),
     };
     output::summary(args.json, &summary, || {
         format!(
