@@ -2,7 +2,7 @@
 //! finite everywhere.
 
 use glam::DVec3;
-use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
+use orbifold_render::denoise::{DenoiseOptions, Guides, denoise, denoise_with_reduction};
 use orbifold_render::film::{Film, tone_map};
 use orbifold_render::filter::PixelFilter;
 use orbifold_render::integrator::{FirstHit, Settings};
@@ -343,4 +343,54 @@ fn the_guides_weigh_paths_as_the_film_does() {
             assert_eq!(guides.emitted(x, y), b);
         }
     }
+}
+
+#[test]
+fn the_noise_of_light_seen_directly_counts_as_noise_the_filter_leaves() {
+    // A grey wall whose lighting is noisy everywhere, and one pixel whose samples also glimpse a
+    // crowd of tiny light images (seen directly, half of them): the filter smooths the wall's
+    // lighting there as everywhere, but the light's noise stays, so adaptive sampling must see
+    // that pixel's variance as hardly lowered.
+    let (w, h) = (15u32, 15u32);
+    let mut film = Film::new(w, h);
+    let mut guides = Guides::new(w, h);
+    let mut next = uniform(11);
+    let (crowd, plain) = ((7, 7), (3, 3));
+    for y in 0..h {
+        for x in 0..w {
+            for _ in 0..32 {
+                let lit = 0.8 * (0.3 + 0.2 * (next() - 0.5));
+                let glimpse = if (x, y) == crowd && next() < 0.5 {
+                    2.0
+                } else {
+                    0.0
+                };
+                let first = FirstHit {
+                    albedo: [0.8; 3],
+                    normal: DVec3::Z,
+                    depth: 1.0,
+                    emitted: [glimpse; 3],
+                    ..FirstHit::default()
+                };
+                film.add(x, y, [lit + glimpse; 3]);
+                guides.add(x, y, &first, [lit + glimpse; 3]);
+            }
+        }
+    }
+    let (clean, reduction) = denoise_with_reduction(&film, &guides, &DenoiseOptions::default());
+    let at = |(x, y): (u32, u32)| (y * w + x) as usize;
+    assert!(
+        reduction[at(plain)] < 0.1,
+        "the plain wall: {}",
+        reduction[at(plain)]
+    );
+    assert!(
+        reduction[at(crowd)] > 0.9,
+        "the light's noise is left: {}",
+        reduction[at(crowd)]
+    );
+    // And the light seen directly is indeed left as it was.
+    let (x, y) = crowd;
+    let seen = guides.emitted(x, y)[0];
+    assert!((clean.pixel(x, y)[0] - seen - 0.24).abs() < 0.02);
 }
