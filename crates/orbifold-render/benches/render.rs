@@ -205,8 +205,8 @@ fn footprint(c: &mut Criterion) {
     group.finish();
 }
 
-/// One round of a 896×896 image added to the film and the denoiser's guides: 802 816 samples
-/// at stratified offsets, with each filter.
+/// One round of a 896×896 image added to the film and the denoiser's guides (802 816 samples,
+/// one a pixel) and the pixels filtered afresh, with each filter.
 fn splatting(c: &mut Criterion) {
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
@@ -217,7 +217,6 @@ fn splatting(c: &mut Criterion) {
             let splat = Splat {
                 x: p % size,
                 y: p / size,
-                offset: s.next_2d(),
                 radiance: [s.next_f64(), 0.5, 0.25],
             };
             let first = FirstHit {

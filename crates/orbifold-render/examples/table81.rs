@@ -3,7 +3,7 @@
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
 //! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
-//! box|gaussian]` (`--save`
+//! box|gaussian] [--light-candidates N]` (`--save`
 //! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
 //! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
@@ -14,7 +14,8 @@
 //! `--checkpoints`: instead of the table, each room's two seeds rendered to the last of these
 //! times, with the denoised noise measured at each of them, and the time after which its 99th
 //! percentile is at most 3 levels — the time to a fixed noise level; `--filter`: the pixel
-//! reconstruction filter, the renderer's default Gaussian unless told)
+//! reconstruction filter, the renderer's default Gaussian unless told; `--light-candidates`: the
+//! candidates of each resampled light sample, 1 for the plain light sample)
 //!
 //! The rooms `*`, `*22`, `*222`, `*333`, `*444`, `*2222` and `*3333` as `orbifold scene new`
 //! makes them (every wall a mirror of reflectance 0.9, as in the seed), with the Stanford dragon
@@ -55,6 +56,7 @@ struct Args {
     raw_target: bool,
     no_footprint: bool,
     no_cache: bool,
+    light_candidates: u32,
     reference: Option<f64>,
     crease: Option<f64>,
     checkpoints: Vec<f64>,
@@ -72,6 +74,7 @@ fn parse_args() -> Args {
         raw_target: false,
         no_footprint: false,
         no_cache: false,
+        light_candidates: orbifold_render::integrator::DEFAULT_LIGHT_CANDIDATES,
         reference: None,
         crease: None,
         checkpoints: Vec::new(),
@@ -97,6 +100,9 @@ fn parse_args() -> Args {
             "--raw-target" => args.raw_target = true,
             "--no-footprint" => args.no_footprint = true,
             "--no-cache" => args.no_cache = true,
+            "--light-candidates" => {
+                args.light_candidates = value().parse().expect("--light-candidates takes a count")
+            }
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             "--crease" => args.crease = Some(value().parse().expect("--crease DEGREES")),
             "--checkpoints" => {
@@ -369,6 +375,7 @@ fn main() {
             max_depth: 50,
             pixel_footprint: !args.no_footprint,
             radiance_cache: !args.no_cache,
+            light_candidates: args.light_candidates,
             ..Settings::default()
         };
         let integrator = Integrator::from_scene(&scene, None, settings).expect("the scene builds");

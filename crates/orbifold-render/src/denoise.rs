@@ -44,7 +44,11 @@ use crate::light::Rgb;
 pub struct Guides {
     width: u32,
     height: u32,
+    /// Each pixel's own paths.
+    own: Vec<GuideSums>,
+    /// The same under the reconstruction filter (as [`Film`]'s): what the denoiser reads.
     pixels: Vec<GuideSums>,
+    filter: PixelFilter,
 }
 
 /// What one pixel has summed of the paths that count for it, each times its weight.
@@ -120,6 +124,32 @@ impl GuideSums {
         self.depth2 += w * first.depth * first.depth;
     }
 
+    /// Merges `other`'s paths into these, each weighted `factor` times as much as in `other`.
+    fn merge_scaled(&mut self, other: &GuideSums, factor: f64) {
+        let (wa, wb) = (self.weight, other.weight * factor);
+        for c in 0..3 {
+            self.albedo[c] += factor * other.albedo[c];
+            self.emitted[c] += factor * other.emitted[c];
+            self.direct[c] += factor * other.direct[c];
+        }
+        self.normal += factor * other.normal;
+        self.depth += factor * other.depth;
+        self.depth2 += factor * other.depth2;
+        for (mine, theirs) in [
+            (&mut self.emitted_stats, &other.emitted_stats),
+            (&mut self.direct_stats, &other.direct_stats),
+            (&mut self.rest_stats, &other.rest_stats),
+        ] {
+            let scaled = Welford {
+                mean: theirs.mean,
+                m2: theirs.m2 * factor,
+            };
+            mine.merge(&scaled, wa, wb);
+        }
+        self.weight = wa + wb;
+        self.weight2 += other.weight2 * factor * factor;
+    }
+
     /// The weighted mean of a sum.
     fn mean(&self, sum: Rgb) -> Rgb {
         if self.weight > 0.0 {
@@ -176,7 +206,9 @@ impl Guides {
         Guides {
             width,
             height,
+            own: vec![GuideSums::default(); n],
             pixels: vec![GuideSums::default(); n],
+            filter: PixelFilter::Box,
         }
     }
 
@@ -192,14 +224,11 @@ impl Guides {
     /// `first.emitted` is the part seen directly; non-finite values are skipped), for that pixel
     /// only (the box filter, as [`Film::add`]).
     pub fn add(&mut self, x: u32, y: u32, first: &FirstHit, radiance: Rgb) {
-        let i = self.index(x, y);
-        if let Some(path) = GuidePath::new(first, radiance) {
-            self.pixels[i].add(&path, 1.0);
-        }
+        self.splat(x, y, first, radiance, PixelFilter::Box);
     }
 
-    /// Adds what a path taken for pixel (x, y) at `offset` within it saw first to every pixel that
-    /// `filter` counts it for, with the filter's weights (as [`Film::splat`]).
+    /// Adds what a path taken for pixel (x, y) saw first, under the reconstruction filter
+    /// `filter` (as [`Film::splat`]).
     ///
     /// ```
     /// use orbifold_render::denoise::Guides;
@@ -208,50 +237,71 @@ impl Guides {
     ///
     /// let mut guides = Guides::new(3, 3);
     /// let first = FirstHit { albedo: [0.5; 3], ..FirstHit::default() };
-    /// guides.splat(1, 1, (0.5, 0.5), &first, [1.0; 3], PixelFilter::GAUSSIAN);
+    /// guides.splat(1, 1, &first, [1.0; 3], PixelFilter::GAUSSIAN);
     /// assert_eq!(guides.albedo(2, 0), [0.5; 3]);
     /// ```
-    pub fn splat(
-        &mut self,
-        x: u32,
-        y: u32,
-        offset: (f64, f64),
-        first: &FirstHit,
-        radiance: Rgb,
-        filter: PixelFilter,
-    ) {
-        self.index(x, y);
-        let Some(path) = GuidePath::new(first, radiance) else {
+    pub fn splat(&mut self, x: u32, y: u32, first: &FirstHit, radiance: Rgb, filter: PixelFilter) {
+        let i = self.index(x, y);
+        if filter != self.filter {
+            self.filter = filter;
+            self.filter_all();
+        }
+        if let Some(path) = GuidePath::new(first, radiance) {
+            self.own[i].add(&path, 1.0);
+        }
+        if self.filter == PixelFilter::Box {
+            self.pixels[i] = self.own[i];
             return;
-        };
-        for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
-            let k = self.index(i, j);
-            self.pixels[k].add(&path, w);
+        }
+        let weights = self.filter.pixel_weights();
+        let (w, h) = (self.width as i64, self.height as i64);
+        for &(dy, _) in &weights {
+            for &(dx, _) in &weights {
+                let (px, py) = (i64::from(x) + i64::from(dx), i64::from(y) + i64::from(dy));
+                if px < 0 || py < 0 || px >= w || py >= h {
+                    continue;
+                }
+                self.pixels[(py * w + px) as usize] = self.filter.filtered(
+                    &weights,
+                    &self.own,
+                    (self.width, self.height),
+                    (px as u32, py as u32),
+                    |p| p.weight,
+                    GuideSums::merge_scaled,
+                );
+            }
         }
     }
 
-    /// [`Guides::splat`] for many paths at once, in parallel over rows as
-    /// [`Film::splat_all`]: each sample's pixel, offset and radiance, with what its path saw
-    /// first.
+    /// [`Guides::splat`] for many paths at once, as [`Film::splat_all`]: each sample's pixel
+    /// and radiance, with what its path saw first.
     ///
     /// # Panics
     ///
-    /// If a sample's pixel is outside the guides, or the samples are not in row order.
+    /// If a sample's pixel is outside the guides.
     pub fn splat_all(&mut self, samples: &[(Splat, FirstHit)], filter: PixelFilter) {
         for (s, _) in samples {
             self.index(s.x, s.y);
         }
+        self.filter = filter;
+        for (s, first) in samples {
+            let i = self.index(s.x, s.y);
+            if let Some(path) = GuidePath::new(first, s.radiance) {
+                self.own[i].add(&path, 1.0);
+            }
+        }
+        self.filter_all();
+    }
+
+    /// The pixels' filtered sums afresh from their own.
+    fn filter_all(&mut self) {
         let size = (self.width, self.height);
-        filter.splat_rows(
+        self.filter.filter_all(
+            &self.own,
             &mut self.pixels,
             size,
-            samples,
-            |(s, _)| (s.x, s.y, s.offset),
-            |pixel, (s, first), w| {
-                if let Some(path) = GuidePath::new(first, s.radiance) {
-                    pixel.add(&path, w);
-                }
-            },
+            |p| p.weight,
+            GuideSums::merge_scaled,
         );
     }
 
@@ -310,6 +360,18 @@ struct Welford {
 }
 
 impl Welford {
+    /// Merges `other`, whose values weigh `wb` in all, into these, which weigh `wa` (Chan et
+    /// al.'s formula).
+    fn merge(&mut self, other: &Welford, wa: f64, wb: f64) {
+        let w = wa + wb;
+        if wb <= 0.0 || w <= 0.0 {
+            return;
+        }
+        let delta = other.mean - self.mean;
+        self.mean += delta * wb / w;
+        self.m2 += other.m2 + delta * delta * wa * wb / w;
+    }
+
     /// Adds `value` with weight `w`, whose share of the weights' sum (with it) is `share`.
     fn add(&mut self, value: f64, w: f64, share: f64) {
         let delta = value - self.mean;

@@ -2,9 +2,10 @@
 //! OpenEXR (linear) or PNG (tone-mapped).
 //!
 //! Pixel (0, 0) is the top-left corner; x grows to the right and y downwards, as in the image
-//! files. A pixel's value is the weighted mean of the samples around it under a reconstruction
-//! filter ([`crate::filter::PixelFilter`]): [`Film::splat`] counts a sample for every pixel the
-//! filter reaches, [`Film::add`] for its own pixel only (the box filter).
+//! files. Every sample belongs to the pixel it was taken for; a pixel's value is its own samples'
+//! mean under the box filter ([`Film::add`]), or under a wider reconstruction filter
+//! ([`Film::splat`], [`crate::filter::PixelFilter`]) the filter's weighted mean of its
+//! neighbours' means, each an unbiased estimate whatever its pixel's number of samples.
 //!
 //! **Parallel use.** A [`Film`] is plain data: each rayon task can fill a film of its own (or a
 //! whole-image film it owns) and the results are combined with [`Film::merge`]; or the tasks
@@ -58,24 +59,25 @@ pub const NOISE_LUMINANCE_OFFSET: f64 = 1e-2;
 pub struct Film {
     width: u32,
     height: u32,
-    /// What each pixel has summed of the samples that count for it.
+    /// What each pixel has summed of its own samples.
+    own: Vec<Accumulator>,
+    /// The same under the reconstruction filter: what the pixel's value and error are read from.
     pixels: Vec<Accumulator>,
+    /// The reconstruction filter.
+    filter: PixelFilter,
     /// The number of (finite) samples taken for each pixel (whatever other pixels they count for).
     count: Vec<u64>,
     /// Samples with a non-finite component, counted and not stored.
     dropped: u64,
 }
 
-/// A radiance sample for [`Film::splat_all`]: taken for pixel (`x`, `y`) at `offset` ∈ [0, 1)²
-/// within it.
+/// A radiance sample for [`Film::splat_all`]: taken for pixel (`x`, `y`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Splat {
     /// The pixel's column.
     pub x: u32,
     /// The pixel's row.
     pub y: u32,
-    /// Where in the pixel the sample lies.
-    pub offset: (f64, f64),
     /// Its radiance.
     pub radiance: [f64; 3],
 }
@@ -107,6 +109,17 @@ impl Accumulator {
         let delta = l - self.lum_mean;
         self.lum_mean += delta * w / self.weight;
         self.lum_m2 += w * delta * (l - self.lum_mean);
+    }
+
+    /// The same samples, each weighted `factor` times as much.
+    fn scaled(&self, factor: f64) -> Accumulator {
+        Accumulator {
+            sum: self.sum.map(|s| s * factor),
+            weight: self.weight * factor,
+            weight2: self.weight2 * factor * factor,
+            lum_mean: self.lum_mean,
+            lum_m2: self.lum_m2 * factor,
+        }
     }
 
     /// Adds another pixel's sums (Chan et al.'s formula for the deviations).
@@ -141,7 +154,9 @@ impl Film {
         Film {
             width,
             height,
+            own: vec![Accumulator::default(); n],
             pixels: vec![Accumulator::default(); n],
+            filter: PixelFilter::Box,
             count: vec![0; n],
             dropped: 0,
         }
@@ -234,13 +249,61 @@ impl Film {
             return;
         }
         self.count[i] += 1;
-        self.pixels[i].add(radiance, 1.0);
+        self.own[i].add(radiance, 1.0);
+        self.filter_around(i);
     }
 
-    /// Adds a sample taken for pixel (x, y) at `offset` ∈ [0, 1)² within it to every pixel that
-    /// `filter` counts it for, with the filter's weights ([`PixelFilter::footprint`]); it is one
-    /// more of pixel (x, y)'s samples ([`Film::samples`]). Non-finite samples are dropped as by
-    /// [`Film::add`]. With [`PixelFilter::Box`] this is [`Film::add`].
+    /// The pixels' filtered sums afresh from their own (after a batch of samples).
+    fn filter_all(&mut self) {
+        let size = (self.width, self.height);
+        self.filter.filter_all(
+            &self.own,
+            &mut self.pixels,
+            size,
+            |p| p.weight,
+            |into, from, factor| into.merge(&from.scaled(factor)),
+        );
+    }
+
+    /// The filtered sums afresh of the pixels that pixel index `i`'s own samples count for.
+    fn filter_around(&mut self, i: usize) {
+        if self.filter == PixelFilter::Box {
+            self.pixels[i] = self.own[i];
+            return;
+        }
+        let weights = self.filter.pixel_weights();
+        let (w, h) = (self.width as usize, self.height as usize);
+        let (x, y) = (i % w, i / w);
+        for &(dy, _) in &weights {
+            for &(dx, _) in &weights {
+                let (px, py) = (x as i64 + i64::from(dx), y as i64 + i64::from(dy));
+                if px < 0 || py < 0 || px >= w as i64 || py >= h as i64 {
+                    continue;
+                }
+                self.pixels[py as usize * w + px as usize] = self.filter.filtered(
+                    &weights,
+                    &self.own,
+                    (self.width, self.height),
+                    (px as u32, py as u32),
+                    |p| p.weight,
+                    |into, from, factor| into.merge(&from.scaled(factor)),
+                );
+            }
+        }
+    }
+
+    /// Uses `filter` from now on (all pixels are filtered afresh if it changes).
+    fn set_filter(&mut self, filter: PixelFilter) {
+        if filter != self.filter {
+            self.filter = filter;
+            self.filter_all();
+        }
+    }
+
+    /// Adds a sample taken for pixel (x, y) under the reconstruction filter `filter`: it is one
+    /// more of pixel (x, y)'s samples ([`Film::samples`]), and the filter counts that pixel's
+    /// mean for the pixels near it. Non-finite samples are dropped as by [`Film::add`]. With
+    /// [`PixelFilter::Box`] this is [`Film::add`].
     ///
     /// # Panics
     ///
@@ -251,73 +314,62 @@ impl Film {
     /// use orbifold_render::filter::PixelFilter;
     ///
     /// let mut film = Film::new(3, 3);
-    /// film.splat(1, 1, (0.5, 0.5), [1.0; 3], PixelFilter::GAUSSIAN);
+    /// film.splat(1, 1, [1.0; 3], PixelFilter::GAUSSIAN);
     /// // Every pixel now has the sample's value; only the middle one has a sample of its own.
     /// assert_eq!(film.pixel(0, 2), [1.0; 3]);
     /// assert_eq!((film.samples(1, 1), film.samples(0, 2)), (1, 0));
+    /// // A neighbour's many samples count no more than its one sample did.
+    /// for _ in 0..99 {
+    ///     film.splat(0, 1, [4.0; 3], PixelFilter::GAUSSIAN);
+    /// }
+    /// film.splat(1, 0, [4.0; 3], PixelFilter::GAUSSIAN);
+    /// // The middle pixel: its own 1 and its two sampled neighbours' 4, weighted alike.
+    /// let middle = film.pixel(1, 1)[0];
+    /// assert!(middle > 1.5 && middle < 2.0, "{middle}");
     /// ```
-    pub fn splat(
-        &mut self,
-        x: u32,
-        y: u32,
-        offset: (f64, f64),
-        radiance: [f64; 3],
-        filter: PixelFilter,
-    ) {
+    pub fn splat(&mut self, x: u32, y: u32, radiance: [f64; 3], filter: PixelFilter) {
         let own = self.index(x, y);
-        if !radiance.iter().all(|c| c.is_finite()) {
-            self.dropped += 1;
-            return;
-        }
-        self.count[own] += 1;
-        for (i, j, w) in filter.footprint(x, y, offset, self.width, self.height) {
-            let k = self.index(i, j);
-            self.pixels[k].add(radiance, w);
-        }
+        self.set_filter(filter);
+        self.add_at(own, radiance);
     }
 
-    /// [`Film::splat`] for many samples at once, in parallel over the rows they count for (the
-    /// sums come out as if they were splatted one after the other in `samples`' order, whatever
-    /// the number of threads).
+    /// [`Film::splat`] for many samples at once (the pixels are filtered once, in parallel over
+    /// rows, at the end).
     ///
     /// # Panics
     ///
-    /// If a sample's pixel is outside the film, or the samples are not in row order.
+    /// If a sample's pixel is outside the film.
     ///
     /// ```
     /// use orbifold_render::film::{Film, Splat};
     /// use orbifold_render::filter::PixelFilter;
     ///
     /// let samples = [
-    ///     Splat { x: 1, y: 0, offset: (0.2, 0.7), radiance: [1.0; 3] },
-    ///     Splat { x: 0, y: 1, offset: (0.9, 0.1), radiance: [3.0; 3] },
+    ///     Splat { x: 1, y: 0, radiance: [1.0; 3] },
+    ///     Splat { x: 0, y: 1, radiance: [3.0; 3] },
     /// ];
     /// let (mut one_by_one, mut at_once) = (Film::new(3, 2), Film::new(3, 2));
     /// for s in &samples {
-    ///     one_by_one.splat(s.x, s.y, s.offset, s.radiance, PixelFilter::GAUSSIAN);
+    ///     one_by_one.splat(s.x, s.y, s.radiance, PixelFilter::GAUSSIAN);
     /// }
     /// at_once.splat_all(&samples, PixelFilter::GAUSSIAN);
     /// assert_eq!(one_by_one, at_once);
     /// ```
     pub fn splat_all(&mut self, samples: &[Splat], filter: PixelFilter) {
-        let finite: Vec<Splat> = samples
-            .iter()
-            .filter(|s| s.radiance.iter().all(|c| c.is_finite()))
-            .copied()
-            .collect();
-        self.dropped += (samples.len() - finite.len()) as u64;
-        for s in &finite {
-            let own = self.index(s.x, s.y);
-            self.count[own] += 1;
+        for s in samples {
+            self.index(s.x, s.y);
         }
-        let (width, height) = (self.width, self.height);
-        filter.splat_rows(
-            &mut self.pixels,
-            (width, height),
-            &finite,
-            |s| (s.x, s.y, s.offset),
-            |pixel, s, w| pixel.add(s.radiance, w),
-        );
+        self.filter = filter;
+        for s in samples {
+            if !s.radiance.iter().all(|c| c.is_finite()) {
+                self.dropped += 1;
+                continue;
+            }
+            let i = self.index(s.x, s.y);
+            self.count[i] += 1;
+            self.own[i].add(s.radiance, 1.0);
+        }
+        self.filter_all();
     }
 
     /// Adds one sample to every pixel of row `y`: `row[x]` goes to pixel (x, y). Convenient with
@@ -380,11 +432,15 @@ impl Film {
             self.width,
             self.height
         );
-        for (i, pixel) in self.pixels.iter_mut().enumerate() {
+        for (i, pixel) in self.own.iter_mut().enumerate() {
             self.count[i] += other.count[i];
-            pixel.merge(&other.pixels[i]);
+            pixel.merge(&other.own[i]);
         }
         self.dropped += other.dropped;
+        if other.filter != PixelFilter::Box {
+            self.filter = other.filter;
+        }
+        self.filter_all();
     }
 
     /// The mean radiance of pixel (x, y); black when it has no samples.

@@ -1,40 +1,48 @@
 //! Pixel reconstruction filters: how much a radiance sample taken at a point of the image counts
 //! for each pixel near it (pbrt-v4 §8.8, "Image Reconstruction").
 //!
-//! A pixel's value is the weighted mean Σ w(xᵢ − c) Lᵢ / Σ w(xᵢ − c) of the samples xᵢ around its
-//! centre c. The **box** of one pixel counts every sample for its own pixel only. The
+//! The **box** of one pixel takes each pixel's value as the mean of its own samples. The
 //! **Gaussian** (σ = 0.5 pixel, cut off at 1.5 pixels: the default of pbrt-v4; Mitsuba 3's
-//! default is the same Gaussian cut off at 2 pixels) lets a sample count for the pixels within
-//! 1.5 pixels of it, by how near it is to their centres.
-//! Each pixel then averages the samples of about π·1.5² pixels: for independent noise its
-//! variance is about a third of the box's (1/(4πσ²) for the untruncated Gaussian), and detail
-//! finer than a pixel — the crowd of far mirror images at a hyperbolic room's horizon — is
-//! filtered out rather than aliased into grain. The price is a slightly softer image (the
-//! Gaussian's response at the Nyquist frequency is 0.29, the box's 0.64).
+//! default is the same Gaussian cut off at 2 pixels) lets a pixel's value take in its
+//! neighbours' samples too, by how near they are to its centre: for independent noise its
+//! variance is about 0.28 of the box's, and detail finer than a pixel — the crowd of far
+//! mirror images at a hyperbolic room's horizon — is filtered out rather than aliased into
+//! grain. The price is a softer image (a response of 0.25 at the Nyquist frequency, the box's
+//! 0.64).
 //!
-//! Both filters are non-negative, so the weighted means stay convex combinations of samples and
-//! their standard errors keep their meaning ([`crate::film::Film::standard_error`]).
+//! **Each pixel's samples count as a whole, whatever their number.** pbrt splats every sample
+//! into the pixels near it with the filter's weight at its position, and takes the weighted
+//! mean. With adaptive sampling that mean is biased: a pixel whose neighbour got ten times its
+//! samples takes ten times that neighbour's weight, so the bright side of an edge — a light's
+//! silhouette, which the adaptive sampler favours — bleeds into the dark side (measured: pixels
+//! next to a sphere light 3× too bright with light sampling, and the whole image of a test room
+//! 11 % too dark with brute force). Here a pixel's value is instead Σⱼ Kⱼ mⱼ / Σⱼ Kⱼ over the
+//! pixels j around it that have samples, where mⱼ is the mean of pixel j's own samples and Kⱼ
+//! the filter's weight averaged over pixel j (what a sample there gets on average,
+//! [`PixelFilter::pixel_weights`]). Each mⱼ is an unbiased estimate of its pixel whatever its
+//! number of samples, so the value is too. It is computed by merging the neighbours' running
+//! sums, each sample of pixel j weighted Kⱼ/nⱼ, so the weighted standard error of
+//! [`crate::film::Film::standard_error`] keeps its meaning.
 
 use arrayvec::ArrayVec;
 use orbifold_scene::ReconstructionFilter;
 use rayon::prelude::*;
 
-/// Most pixels one sample counts for: a radius of at most two pixels reaches at most four pixel
-/// centres along each axis (the default Gaussian's 1.5 pixels, three).
-pub const MOST_PIXELS: usize = 16;
+/// Most pixels along one axis that a pixel's value takes in: a radius of at most two pixels
+/// reaches two pixels either side.
+pub const MOST_PIXELS: usize = 5;
 
 /// A pixel reconstruction filter.
 ///
 /// ```
 /// use orbifold_render::filter::PixelFilter;
 ///
-/// // A sample at the centre of pixel (4, 4) counts most for that pixel, and a little for its
-/// // neighbours.
-/// let weights = PixelFilter::default().footprint(4, 4, (0.5, 0.5), 16, 16);
-/// let own = weights.iter().find(|&&(x, y, _)| (x, y) == (4, 4)).unwrap().2;
-/// assert!(weights.len() == 9 && weights.iter().all(|&(_, _, w)| w <= own));
-/// // The box counts it for its own pixel only.
-/// assert_eq!(PixelFilter::Box.footprint(4, 4, (0.5, 0.5), 16, 16).as_slice(), &[(4, 4, 1.0)]);
+/// // A pixel's own samples count most for it, its neighbours' a little.
+/// let weights = PixelFilter::default().pixel_weights();
+/// assert_eq!(weights.iter().map(|w| w.0).collect::<Vec<_>>(), [-1, 0, 1]);
+/// assert!(weights[1].1 > 4.0 * weights[0].1 && (weights[0].1 - weights[2].1).abs() < 1e-12);
+/// // The box: its own samples only.
+/// assert_eq!(PixelFilter::Box.pixel_weights().as_slice(), &[(0, 1.0)]);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PixelFilter {
@@ -130,49 +138,37 @@ impl PixelFilter {
         }
     }
 
-    /// The pixels that a sample taken for pixel (`x`, `y`) at `offset` ∈ [0, 1)² within it counts
-    /// for, with their weights (positive; the sample's own pixel is always among them), on a
-    /// `width` × `height` image.
-    pub fn footprint(
-        self,
-        x: u32,
-        y: u32,
-        offset: (f64, f64),
-        width: u32,
-        height: u32,
-    ) -> ArrayVec<(u32, u32, f64), MOST_PIXELS> {
-        let mut pixels = ArrayVec::new();
-        let across = self.axis_weights(x, offset.0, width);
-        for (j, wy) in self.axis_weights(y, offset.1, height) {
-            for &(i, wx) in &across {
-                pixels.push((i, j, wx * wy));
-            }
-        }
-        pixels
-    }
-
-    /// Along one axis of `size` pixels, the pixels that a sample at `offset` within pixel
-    /// `pixel` counts for, with the filter's weight along that axis (the box: its own, 1).
-    fn axis_weights(self, pixel: u32, offset: f64, size: u32) -> ArrayVec<(u32, f64), 4> {
+    /// Along one axis, the pixels whose samples count for a pixel, by their offset from it (0:
+    /// its own), with the filter's weight averaged over each (the weight a sample there gets
+    /// on average; integrated by Simpson's rule). The weights in two dimensions are the
+    /// products of two of these.
+    pub fn pixel_weights(self) -> ArrayVec<(i32, f64), MOST_PIXELS> {
         let mut weights = ArrayVec::new();
-        let PixelFilter::Gaussian { radius, .. } = self else {
-            weights.push((pixel, 1.0));
-            return weights;
-        };
-        // Pixel k's centre is at k + ½; the sample at pixel + offset.
-        let at = f64::from(pixel) + offset;
-        let first = (at - radius - 0.5).ceil().max(0.0) as u32;
-        let last = ((at + radius - 0.5).floor() as u32).min(size - 1);
-        for k in first..=last {
-            let w = self.weight_1d(at - (f64::from(k) + 0.5));
-            if w > 0.0 && !weights.is_full() {
-                weights.push((k, w));
+        let reach = self.reach() as i32;
+        for d in -reach..=reach {
+            const STEPS: usize = 64;
+            let at = |k: usize| self.weight_1d(f64::from(d) - 0.5 + k as f64 / STEPS as f64);
+            let simpson: f64 = (0..=STEPS)
+                .map(|k| {
+                    let c = if k == 0 || k == STEPS {
+                        1.0
+                    } else if k % 2 == 1 {
+                        4.0
+                    } else {
+                        2.0
+                    };
+                    c * at(k)
+                })
+                .sum::<f64>()
+                / (3.0 * STEPS as f64);
+            if simpson > 0.0 {
+                weights.push((d, simpson));
             }
         }
         weights
     }
 
-    /// How many rows above and below its own a sample can count for.
+    /// How many pixels either side count for a pixel.
     fn reach(self) -> u32 {
         match self {
             PixelFilter::Box => 0,
@@ -180,52 +176,75 @@ impl PixelFilter {
         }
     }
 
-    /// Adds `samples` (in row order) to the per-pixel `state` of a `width` × `height` image,
-    /// row by row in parallel: `add(pixel, sample, weight)` for every pixel that `place(sample)`
-    /// = (column, row, offset) counts for. Each pixel receives its samples in `samples`' order,
-    /// so the result does not depend on the number of threads.
+    /// The filtered state of pixel (`x`, `y`) of a `width` × `height` image from every pixel's
+    /// own state `own`: the merge, over the pixels j around it with samples (`count(j)` > 0),
+    /// of pixel j's state with each sample weighted Kⱼ/nⱼ (`merge_scaled(into, from, factor)`
+    /// merges `from` scaled by `factor`).
+    pub(crate) fn filtered<P: Default>(
+        self,
+        weights: &[(i32, f64)],
+        own: &[P],
+        (width, height): (u32, u32),
+        (x, y): (u32, u32),
+        count: impl Fn(&P) -> f64,
+        merge_scaled: impl Fn(&mut P, &P, f64),
+    ) -> P {
+        let mut state = P::default();
+        for &(dy, ky) in weights {
+            let j = i64::from(y) + i64::from(dy);
+            if j < 0 || j >= i64::from(height) {
+                continue;
+            }
+            for &(dx, kx) in weights {
+                let i = i64::from(x) + i64::from(dx);
+                if i < 0 || i >= i64::from(width) {
+                    continue;
+                }
+                let from = &own[j as usize * width as usize + i as usize];
+                let n = count(from);
+                if n > 0.0 {
+                    merge_scaled(&mut state, from, kx * ky / n);
+                }
+            }
+        }
+        state
+    }
+
+    /// [`PixelFilter::filtered`] for every pixel, into `out`, rows in parallel.
     ///
     /// # Panics
     ///
-    /// If the samples are not in row order (the rows they count for are found by bisection) or
-    /// `state` does not hold `width` × `height` pixels.
-    pub(crate) fn splat_rows<S: Sync, P: Send>(
+    /// If `own` or `out` does not hold `width` × `height` pixels.
+    pub(crate) fn filter_all<P: Default + Clone + Send + Sync>(
         self,
-        state: &mut [P],
+        own: &[P],
+        out: &mut [P],
         (width, height): (u32, u32),
-        samples: &[S],
-        place: impl Fn(&S) -> (u32, u32, (f64, f64)) + Sync,
-        add: impl Fn(&mut P, &S, f64) + Sync,
+        count: impl Fn(&P) -> f64 + Sync,
+        merge_scaled: impl Fn(&mut P, &P, f64) + Sync,
     ) {
-        assert_eq!(
-            state.len(),
-            width as usize * height as usize,
-            "one state a pixel"
-        );
-        assert!(
-            samples.windows(2).all(|p| place(&p[0]).1 <= place(&p[1]).1),
-            "samples to splat must be in row order"
-        );
+        let n = width as usize * height as usize;
+        assert!(own.len() == n && out.len() == n, "one state a pixel");
+        if self == PixelFilter::Box {
+            out.clone_from_slice(own);
+            return;
+        }
         if width == 0 {
             return;
         }
-        let reach = self.reach();
-        state
-            .par_chunks_mut(width as usize)
+        let weights = self.pixel_weights();
+        out.par_chunks_mut(width as usize)
             .enumerate()
             .for_each(|(y, row)| {
-                let y = y as u32;
-                let start = samples.partition_point(|s| place(s).1 + reach < y);
-                let end = samples.partition_point(|s| place(s).1 <= y + reach);
-                for sample in &samples[start..end] {
-                    let (sx, sy, offset) = place(sample);
-                    let wy = self.weight_1d(f64::from(sy) + offset.1 - (f64::from(y) + 0.5));
-                    if wy <= 0.0 {
-                        continue;
-                    }
-                    for (x, wx) in self.axis_weights(sx, offset.0, width) {
-                        add(&mut row[x as usize], sample, wx * wy);
-                    }
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    *pixel = self.filtered(
+                        &weights,
+                        own,
+                        (width, height),
+                        (x as u32, y as u32),
+                        &count,
+                        &merge_scaled,
+                    );
                 }
             });
     }
@@ -236,25 +255,27 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_gaussian_reaches_the_pixels_within_its_radius_and_no_others() {
-        let filter = PixelFilter::GAUSSIAN;
-        for (offset, wanted) in [((0.5, 0.5), 9), ((0.05, 0.95), 9), ((0.0, 0.0), 4)] {
-            let pixels = filter.footprint(10, 10, offset, 32, 32);
-            assert_eq!(pixels.len(), wanted, "{offset:?}");
-            for &(i, j, w) in &pixels {
-                let dx = 10.0 + offset.0 - (f64::from(i) + 0.5);
-                let dy = 10.0 + offset.1 - (f64::from(j) + 0.5);
-                assert!(dx.abs() < 1.5 && dy.abs() < 1.5 && w > 0.0, "{i} {j} {w}");
-            }
-            assert!(pixels.iter().any(|&(i, j, _)| (i, j) == (10, 10)));
+    fn the_gaussian_takes_in_the_pixels_within_its_radius_and_no_others() {
+        let weights = PixelFilter::GAUSSIAN.pixel_weights();
+        assert_eq!(weights.len(), 3);
+        // The weight of a neighbour is the filter averaged over it: ∫ from ½ to 1½ pixels.
+        let g = |t: f64| (-2.0 * t * t).exp() - (-4.5f64).exp();
+        let n = 10_000;
+        let mean = (0..n)
+            .map(|k| g(0.5 + (f64::from(k) + 0.5) / f64::from(n)))
+            .sum::<f64>()
+            / f64::from(n);
+        assert!(
+            (weights[2].1 - mean).abs() < 1e-6,
+            "{} vs {mean}",
+            weights[2].1
+        );
+        let wide = PixelFilter::Gaussian {
+            sigma: 0.5,
+            radius: 2.0,
         }
-    }
-
-    #[test]
-    fn the_footprint_stays_on_the_image() {
-        let pixels = PixelFilter::GAUSSIAN.footprint(0, 5, (0.1, 0.9), 6, 6);
-        assert!(pixels.iter().all(|&(i, j, _)| i < 6 && j < 6));
-        assert_eq!(pixels.len(), 4);
+        .pixel_weights();
+        assert_eq!(wide.len(), 5);
     }
 
     #[test]

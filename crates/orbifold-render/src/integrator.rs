@@ -12,6 +12,7 @@
 //! area light after a non-specular bounce is weighted against that light sample by the power
 //! heuristic; the image it came through is found from the walls it met.
 
+use arrayvec::ArrayVec;
 use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 use orbifold::space::Space;
@@ -24,8 +25,8 @@ use crate::flat::{flatten_light, flatten_tracer};
 use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use crate::geodesic::Ray;
 use crate::light::{
-    Emitter, ImageSet, Light, Rgb, TangentFrame, connect, reflection_matrix, spread,
-    travel_direction,
+    AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, connect,
+    reflection_matrix, spread, travel_direction,
 };
 use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
@@ -74,6 +75,11 @@ pub struct Settings {
     /// own paths ([`crate::radiance_cache`]; on by default, used by [`crate::render`]). It needs
     /// light sampling and the pixel footprint.
     pub radiance_cache: bool,
+    /// Candidates drawn for each light sample, of which one is kept by resampling and tested
+    /// for visibility ([`DEFAULT_LIGHT_CANDIDATES`] by default; 1 for the plain light sample;
+    /// at most [`MAX_LIGHT_CANDIDATES`]). More candidates cost a little each and lower the
+    /// noise of direct light wherever the per-image choice misjudges a point's light.
+    pub light_candidates: u32,
 }
 
 impl Default for Settings {
@@ -85,6 +91,7 @@ impl Default for Settings {
             straight_rays: false,
             pixel_footprint: true,
             radiance_cache: true,
+            light_candidates: DEFAULT_LIGHT_CANDIDATES,
         }
     }
 }
@@ -424,11 +431,50 @@ const NEAR_IMAGES: usize = 24;
 const NEAR_MAX: usize = 96;
 /// The share of light samples that use the per-point weights.
 const NEAR_SHARE: f64 = 0.5;
+/// The candidates drawn for each light sample by default, of which one is kept and marched
+/// ([`Settings::light_candidates`]; measured in docs/benchmarks.md).
+pub const DEFAULT_LIGHT_CANDIDATES: u32 = 4;
+/// The most candidates for one light sample.
+pub const MAX_LIGHT_CANDIDATES: u32 = 16;
+const LIGHT_CANDIDATES: usize = MAX_LIGHT_CANDIDATES as usize;
+/// Shifts that make the later candidates' uniforms from the first's: the golden ratio's
+/// fraction, and the two-dimensional R₂ sequence's (Roberts 2018), whose multiples are spread
+/// evenly.
+const GOLDEN: f64 = 0.618_033_988_749_894_9;
+const R2: (f64, f64) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_2);
 /// Per-point weights treat nothing as closer than this (intrinsic units).
 const NEAR_CLAMP: f64 = 0.05;
 /// Per-point weights use at least this cosine (a light has a size: part of it can be above the
 /// surface's horizon while its centre is below).
 const COSINE_FLOOR: f64 = 0.05;
+
+/// A surface point to be lit by a light sample, with what its BSDF needs.
+struct LitPoint<'a> {
+    x: DVec3,
+    h: f64,
+    frame: &'a TangentFrame,
+    shading: &'a Frame,
+    sides: &'a Sides,
+    bsdf: &'a Bsdf,
+}
+
+/// A candidate light sample, worked out up to its visibility.
+#[derive(Clone, Copy, Debug)]
+struct LightCandidate {
+    /// The (light, image, way) entry and its probability.
+    index: usize,
+    pmf: f64,
+    /// The point on the light (in its own copy) and the geodesic to its image.
+    point: LightPoint,
+    link: Connection,
+    /// The direction to the light at the lit point (shading frame's ambient local), the BSDF
+    /// there and the cosine.
+    wi: DVec3,
+    f: Rgb,
+    cos_x: f64,
+    /// The luminance of the contribution if nothing blocks it: the resampling weight.
+    weight: f64,
+}
 
 /// A surface normal as the per-point light weights use it: its horizontal part (an ambient
 /// tangent vector at the point, of length √(1 − up²)) and its vertical part.
@@ -938,13 +984,17 @@ impl Integrator {
         }
     }
 
-    /// Picks a light-sampling choice at (x, h): with probability `NEAR_SHARE` among the near
-    /// images by per-point weights, else from the scene-wide distribution. Returns the entry
-    /// and its probability.
-    fn pick_entry(&self, x: DVec3, h: f64, normal: Normal, u: f64) -> Option<(usize, f64)> {
+    /// Picks a light-sampling choice with the per-point weights of the near images (and their
+    /// sum `total`, from [`Integrator::near_weights`]): with probability `NEAR_SHARE` among
+    /// the near images by those weights, else from the scene-wide distribution. Returns the
+    /// entry and its probability.
+    fn pick_entry_with(
+        &self,
+        weights: &[f64; NEAR_MAX],
+        total: f64,
+        u: f64,
+    ) -> Option<(usize, f64)> {
         let distribution = self.distribution.as_ref()?;
-        let mut weights = [0.0; NEAR_MAX];
-        let total = self.near_weights(x, h, normal, &mut weights);
         let share = if total > 0.0 && total.is_finite() {
             NEAR_SHARE
         } else {
@@ -964,7 +1014,7 @@ impl Integrator {
         } else {
             distribution.sample((u - share) / (1.0 - share)).0
         };
-        Some((index, self.entry_pmf(index, &weights, total, share)))
+        Some((index, self.entry_pmf(index, weights, total, share)))
     }
 
     /// The probability of `pick_entry` choosing `index`, given the per-point weights.
@@ -1290,7 +1340,25 @@ impl Integrator {
         frame.to_local(self.space(), h, v).try_normalize()
     }
 
-    /// Direct light at a surface point through next-event estimation: one light sample.
+    /// Direct light at a surface point through next-event estimation: one light sample, chosen
+    /// by resampling among [`LIGHT_CANDIDATES`] candidates (resampled importance sampling,
+    /// Talbot et al. 2005).
+    ///
+    /// Each candidate is drawn as a plain light sample would be (a (light, image, way) choice
+    /// from [`Integrator::pick_entry`]'s distribution and a point on that light), and its
+    /// contribution is worked out in full except for what it costs most: the march through the
+    /// mirrors that finds whether it is blocked. One candidate is then kept with probability ∝
+    /// that unblocked contribution's luminance, and only it is marched. The estimate is the kept
+    /// candidate's contribution (with the mirrors' actual reflectances and its visibility) times
+    /// the candidates' mean luminance over its own: unbiased whatever the candidates' weights,
+    /// since each candidate alone is distributed as a plain light sample. Where the per-point
+    /// weights misjudge an image (the scene-wide half of the distribution, the cosine at the
+    /// light, the point on a sphere light's side) the candidates' mean averages it out, and the
+    /// noise left is mostly which candidate is blocked.
+    ///
+    /// The multiple-importance weight against BSDF sampling uses the plain light sample's
+    /// density on both sides (as [`Integrator::light_pdf`] does), so that the two weights of any
+    /// path still add up to one.
     #[allow(clippy::too_many_arguments)]
     fn direct(
         &self,
@@ -1301,36 +1369,186 @@ impl Integrator {
         shading: &Frame,
         sides: &Sides,
         bsdf: &Bsdf,
+        candidates: u32,
     ) -> Rgb {
-        let space = self.space();
-        let wo = sides.wo;
         let normal = Normal::new(frame, shading.normal());
-        let Some((index, pmf)) = self.pick_entry(x, h, normal, sampler.next_f64()) else {
+        let mut weights = [0.0; NEAR_MAX];
+        let total = self.near_weights(x, h, normal, &mut weights);
+        let at = LitPoint {
+            x,
+            h,
+            frame,
+            shading,
+            sides,
+            bsdf,
+        };
+        // The first candidate takes the bounce's stratified dimensions; the others are shifted
+        // copies of them (each uniform on its own: that is all resampling needs).
+        let u = sampler.next_f64();
+        let u_point = sampler.next_f64();
+        let v = sampler.next_2d();
+        let uniforms = |j: u32| {
+            let shifted = |a: f64, b: f64| (a + f64::from(j) * b).fract();
+            (
+                shifted(u, 1.0 / f64::from(candidates)),
+                shifted(u_point, GOLDEN),
+                (shifted(v.0, R2.0), shifted(v.1, R2.1)),
+            )
+        };
+        let mut aimed = ArrayVec::new();
+        if candidates <= 1 {
+            return self
+                .light_candidate(&at, (&weights, total), &mut aimed, uniforms(0))
+                .map_or([0.0; 3], |c| self.light_contribution(&at, &c));
+        }
+        let mut drawn = [None; LIGHT_CANDIDATES];
+        let mut sum = 0.0;
+        for (j, slot) in drawn.iter_mut().enumerate().take(candidates as usize) {
+            *slot = self
+                .light_candidate(&at, (&weights, total), &mut aimed, uniforms(j as u32))
+                .and_then(|mut c| {
+                    c.weight = self.candidate_weight(&at, &c)?;
+                    Some(c)
+                });
+            sum += slot.as_ref().map_or(0.0, |c| c.weight);
+        }
+        if !(sum > 0.0 && sum.is_finite()) {
+            return [0.0; 3];
+        }
+        let mut target = sampler.next_independent_f64() * sum;
+        let mut chosen = None;
+        for candidate in drawn.iter().flatten() {
+            chosen = Some(candidate);
+            if target < candidate.weight {
+                break;
+            }
+            target -= candidate.weight;
+        }
+        let Some(chosen) = chosen else {
             return [0.0; 3];
         };
+        let value = self.light_contribution(&at, chosen);
+        scale(value, sum / (f64::from(candidates) * chosen.weight))
+    }
+
+    /// One candidate of a light sample at `at` with `uniforms` (the choice of (light, image,
+    /// way), of the light's triangle, and the point in it): its unblocked contribution, with the
+    /// image's bound on the mirrors' reflectance. `None` when it cannot light the point.
+    fn light_candidate<'a>(
+        &'a self,
+        at: &LitPoint,
+        (weights, total): (&[f64; NEAR_MAX], f64),
+        aimed: &mut ArrayVec<(usize, AimedLight<'a>), LIGHT_CANDIDATES>,
+        (u, u_point, v): (f64, f64, (f64, f64)),
+    ) -> Option<LightCandidate> {
+        let space = self.space();
+        let (index, pmf) = self.pick_entry_with(weights, total, u)?;
         let entry = self.entries[index];
         let light = &self.lights[entry.light];
         let image = &self.images.images[entry.image];
         // The point to light, seen from the light's own copy of the room (the long way round
         // arrives from the other side: every triangle is a candidate then).
-        let from = (!entry.long_way).then(|| (image.inverse * x, h));
-        let Some(point) = light.sample_point(space, sampler.next_f64(), sampler.next_2d(), from)
-        else {
-            return [0.0; 3];
+        // Candidates that chose the same entry share what the light works out for the point.
+        let aimed = match aimed.iter().find(|(i, _)| *i == index) {
+            Some((_, aimed)) => aimed,
+            None => {
+                let from = (!entry.long_way).then(|| (image.inverse * at.x, at.h));
+                aimed.push((index, light.aimed_at(space, from)));
+                &aimed[aimed.len() - 1].1
+            }
         };
+        let point = aimed.sample(space, u_point, v)?;
         let target = image.isometry * point.x;
-        let Some(link) = connect(space, frame, (x, h), (target, point.h), entry.long_way) else {
-            return [0.0; 3];
-        };
-        let wi = travel_direction(space, frame, &link.ray, 0.0);
-        if !sides.agree(shading.normal(), wi) {
-            return [0.0; 3];
+        let link = connect(
+            space,
+            at.frame,
+            (at.x, at.h),
+            (target, point.h),
+            entry.long_way,
+        )?;
+        let wi = travel_direction(space, at.frame, &link.ray, 0.0);
+        if !at.sides.agree(at.shading.normal(), wi) {
+            return None;
         }
-        let f = bsdf.eval(shading.to_local(wo), shading.to_local(wi));
-        let cos_x = wi.dot(shading.normal()).abs();
+        let f = at
+            .bsdf
+            .eval(at.shading.to_local(at.sides.wo), at.shading.to_local(wi));
+        let cos_x = wi.dot(at.shading.normal()).abs();
         if luminance(f) <= 0.0 || cos_x == 0.0 {
-            return [0.0; 3];
+            return None;
         }
+        Some(LightCandidate {
+            index,
+            pmf,
+            point,
+            link,
+            wi,
+            f,
+            cos_x,
+            weight: 1.0,
+        })
+    }
+
+    /// The resampling weight of a candidate: the luminance of its contribution if nothing
+    /// blocks it, with the image's bound on the mirrors' reflectance (`None` if zero).
+    fn candidate_weight(&self, at: &LitPoint, candidate: &LightCandidate) -> Option<f64> {
+        let space = self.space();
+        let entry = self.entries[candidate.index];
+        let light = &self.lights[entry.light];
+        let image = &self.images.images[entry.image];
+        let (point, link) = (&candidate.point, &candidate.link);
+        // The direction of arrival at the light, carried back from the image to the light's
+        // own copy (the isometry is linear on ambient vectors, so it maps tangents too).
+        let u_end = image.inverse * link.ray.tangent_at(space, link.sigma);
+        let (cos_a, sin_a) = (link.ray.cos_elevation, link.ray.sin_elevation);
+        let unblocked = mul(candidate.f, image.reflectance);
+        let value = match (point.triangle, &light.emitter) {
+            (Some((triangle, w)), Emitter::Area { instance, .. }) => {
+                // The cosine at the light, in ambient terms (no frame needed there).
+                let hit = TriangleHit {
+                    s: 0.0,
+                    triangle,
+                    barycentric: w,
+                };
+                let (n_across, n_up) = instance.normal(space, &hit)?;
+                let norm = (space.point_dot(n_across, n_across) + n_up * n_up).sqrt();
+                let cos_out = -(space.point_dot(u_end, n_across) * cos_a + n_up * sin_a) / norm;
+                let emitted = light.emission(DVec3::ZERO, cos_out);
+                if cos_out == 0.0 || cos_out.is_nan() || luminance(emitted) <= 0.0 {
+                    return None;
+                }
+                let pdf_light = candidate.pmf * point.pdf_area * link.spread / cos_out.abs();
+                let wo = at.shading.to_local(at.sides.wo);
+                let pdf_bsdf = at.bsdf.pdf(wo, at.shading.to_local(candidate.wi));
+                let weight = power_heuristic(1.0, pdf_light, 1.0, pdf_bsdf);
+                scale(
+                    mul(unblocked, emitted),
+                    candidate.cos_x * weight / pdf_light,
+                )
+            }
+            _ => {
+                let arrival = light.frame.to_local(space, u_end * cos_a, sin_a);
+                let emitted = light.emission(-arrival, 1.0);
+                scale(
+                    mul(unblocked, emitted),
+                    candidate.cos_x / (link.spread * candidate.pmf),
+                )
+            }
+        };
+        let weight = luminance(value);
+        (weight > 0.0 && weight.is_finite()).then_some(weight)
+    }
+
+    /// The contribution of a light candidate once its connection is marched through the real
+    /// room: zero when something other than a mirror is in the way, else with the mirrors'
+    /// actual reflectances.
+    fn light_contribution(&self, at: &LitPoint, candidate: &LightCandidate) -> Rgb {
+        let space = self.space();
+        let entry = self.entries[candidate.index];
+        let light = &self.lights[entry.light];
+        let image = &self.images.images[entry.image];
+        let (point, link) = (&candidate.point, &candidate.link);
+        let from = (!entry.long_way).then(|| (image.inverse * at.x, at.h));
         let start = link.ray.advanced(space, RAY_EPSILON);
         // A point on the side of a sphere light that faces x is reached without meeting the
         // light first: its own mesh (hundreds of triangles) need not be tested.
@@ -1357,7 +1575,8 @@ impl Integrator {
         }
         let light_frame = TangentFrame::at(space, point.x);
         let arrival = travel_direction(space, &light_frame, &march.ray, march.rest + RAY_EPSILON);
-        let unoccluded = mul(f, march.throughput);
+        let unoccluded = mul(candidate.f, march.throughput);
+        let (cos_x, pmf) = (candidate.cos_x, candidate.pmf);
         match point.triangle {
             None => {
                 // A point light: its own frame is the one at its position.
@@ -1376,7 +1595,8 @@ impl Integrator {
                     return [0.0; 3];
                 }
                 let pdf_light = pmf * point.pdf_area * link.spread / cos_out.abs();
-                let pdf_bsdf = bsdf.pdf(shading.to_local(wo), shading.to_local(wi));
+                let wo = at.shading.to_local(at.sides.wo);
+                let pdf_bsdf = at.bsdf.pdf(wo, at.shading.to_local(candidate.wi));
                 let weight = power_heuristic(1.0, pdf_light, 1.0, pdf_bsdf);
                 scale(mul(unoccluded, emitted), cos_x * weight / pdf_light)
             }
@@ -1610,7 +1830,14 @@ impl Integrator {
             depth += 1;
             if self.settings.nee && !bsdf.is_delta() {
                 let sides = Sides { geometric, wo };
-                let direct = self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf);
+                // Resampling pays where the light sample is seen directly; deeper, the
+                // candidates would cost more than the noise they take out of the pixel.
+                let candidates = self
+                    .settings
+                    .light_candidates
+                    .clamp(1, MAX_LIGHT_CANDIDATES);
+                let direct =
+                    self.direct(sampler, x, h, &frame, &shading, &sides, &bsdf, candidates);
                 add(&mut radiance, mul(beta, direct));
                 if depth == 1 {
                     direct_first = mul(beta, direct);

@@ -641,6 +641,76 @@ pub struct LightPoint {
     pub triangle: Option<(u32, [f64; 3])>,
 }
 
+/// The facing triangles of a sphere light for one lit point, by blocks ([`Facing::kept_blocks`]).
+#[derive(Clone, Copy, Debug)]
+struct KeptBlocks {
+    b: DVec3,
+    margin: f64,
+    blocks: [f64; MAX_BLOCKS],
+    kept: f64,
+}
+
+/// A light made ready to sample points for one lit point ([`Light::aimed_at`]).
+#[derive(Clone, Copy, Debug)]
+pub struct AimedLight<'a> {
+    light: &'a Light,
+    from: Option<(DVec3, f64)>,
+    blocked: Option<KeptBlocks>,
+}
+
+impl AimedLight<'_> {
+    /// A point on the light for uniforms `u`, `v`, as [`Light::sample_point`] draws it.
+    pub fn sample(&self, space: Space, u: f64, v: (f64, f64)) -> Option<LightPoint> {
+        let light = self.light;
+        let Emitter::Area {
+            areas,
+            total_area,
+            pick,
+            facing,
+            ..
+        } = &light.emitter
+        else {
+            return Some(LightPoint {
+                x: light.position,
+                h: light.height,
+                pdf_area: 0.0,
+                triangle: None,
+            });
+        };
+        if let (Some(kept), Some(facing)) = (&self.blocked, facing)
+            && kept.kept > 0.0
+        {
+            // The kept triangles' set changes with the point: block sums, then one block.
+            let i = facing.pick(areas, kept.b, kept.margin, &kept.blocks, u * kept.kept)?;
+            return light.point_on(space, i, areas[i] / kept.kept, v);
+        }
+        let (index, probability) = match (light.kept(space, self.from), facing) {
+            (Some((b, margin, kept)), Some(facing)) => {
+                // A linear scan over the kept triangles (their set changes with the point).
+                let mut target = u * kept;
+                let mut chosen = None;
+                for (i, a) in areas.iter().enumerate() {
+                    if facing.keeps(i, b, margin) {
+                        chosen = Some(i);
+                        if target < *a {
+                            break;
+                        }
+                        target -= a;
+                    }
+                }
+                let i = chosen?;
+                (i, areas[i] / kept)
+            }
+            // Pick a triangle ∝ area (binary search: a sphere light has thousands).
+            _ => {
+                let (i, _) = pick.sample(u);
+                (i, areas[i] / total_area)
+            }
+        };
+        light.point_on(space, index, probability, v)
+    }
+}
+
 impl Light {
     /// The lights of a scene in the room's space.
     pub fn from_scene(space: Space, scene: &Scene) -> Result<Vec<Light>, String> {
@@ -784,59 +854,55 @@ impl Light {
         v: (f64, f64),
         from: Option<(DVec3, f64)>,
     ) -> Option<LightPoint> {
-        let Emitter::Area {
-            areas,
-            total_area,
-            pick,
-            facing,
-            ..
-        } = &self.emitter
-        else {
-            return Some(LightPoint {
-                x: self.position,
-                h: self.height,
-                pdf_area: 0.0,
-                triangle: None,
-            });
+        self.aimed_at(space, from).sample(space, u, v)
+    }
+
+    /// What [`Light::sample_point`] works out for the point `from` before it draws: which of a
+    /// sphere light's triangles face it. Worked out once, it serves several draws for the same
+    /// point (the candidates of a resampled light sample that chose the same image).
+    ///
+    /// ```
+    /// use num_complex::Complex64;
+    /// use orbifold_render::light::Light;
+    /// use orbifold_scene::{LightKind, Scene};
+    ///
+    /// let mut scene = Scene::default();
+    /// scene.orbifold.signature = "*333".into();
+    /// let layout = scene.layout().unwrap();
+    /// scene.lights[0].kind = LightKind::Sphere;
+    /// scene.lights[0].at = [layout.centre.re, layout.centre.im];
+    /// let space = layout.space();
+    /// let lights = Light::from_scene(space, &scene).unwrap();
+    /// let x = space.to_ambient(layout.centre + Complex64::new(0.3, 0.1));
+    /// let from = Some((x, 0.2));
+    /// let aimed = lights[0].aimed_at(space, from);
+    /// let once = aimed.sample(space, 0.4, (0.3, 0.6)).unwrap();
+    /// let again = lights[0].sample_point(space, 0.4, (0.3, 0.6), from).unwrap();
+    /// assert_eq!(once.x, again.x);
+    /// assert_eq!(once.pdf_area, again.pdf_area);
+    /// ```
+    pub fn aimed_at(&self, space: Space, from: Option<(DVec3, f64)>) -> AimedLight<'_> {
+        let facing = match &self.emitter {
+            Emitter::Area { facing, .. } => facing.as_ref(),
+            _ => None,
         };
-        let blocked = facing.as_ref().and_then(|facing| {
+        let blocked = facing.and_then(|facing| {
             let (_, b) = self.facing_from(space, from)?;
             let margin = facing.margin(b);
             let mut blocks = [0.0; MAX_BLOCKS];
             let kept = facing.kept_blocks(b, margin, &mut blocks)?;
-            Some((facing, b, margin, blocks, kept))
+            Some(KeptBlocks {
+                b,
+                margin,
+                blocks,
+                kept,
+            })
         });
-        if let Some((facing, b, margin, blocks, kept)) = blocked
-            && kept > 0.0
-        {
-            // The kept triangles' set changes with the point: block sums, then one block.
-            let i = facing.pick(areas, b, margin, &blocks, u * kept)?;
-            return self.point_on(space, i, areas[i] / kept, v);
+        AimedLight {
+            light: self,
+            from,
+            blocked,
         }
-        let (index, probability) = match (self.kept(space, from), facing) {
-            (Some((b, margin, kept)), Some(facing)) => {
-                // A linear scan over the kept triangles (their set changes with the point).
-                let mut target = u * kept;
-                let mut chosen = None;
-                for (i, a) in areas.iter().enumerate() {
-                    if facing.keeps(i, b, margin) {
-                        chosen = Some(i);
-                        if target < *a {
-                            break;
-                        }
-                        target -= a;
-                    }
-                }
-                let i = chosen?;
-                (i, areas[i] / kept)
-            }
-            // Pick a triangle ∝ area (binary search: a sphere light has thousands).
-            _ => {
-                let (i, _) = pick.sample(u);
-                (i, areas[i] / total_area)
-            }
-        };
-        self.point_on(space, index, probability, v)
     }
 
     /// A point of the area light's triangle `index`, picked with `probability`, uniform in its

@@ -302,10 +302,10 @@ impl<'a> Progressive<'a> {
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height, offset);
             let sample = integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler);
-            (pixel, offset, sample)
+            (pixel, sample)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
-        let results: Vec<(u64, Offset, PathSample)> = match &chosen {
+        let results: Vec<(u64, PathSample)> = match &chosen {
             Some(list) => list
                 .par_iter()
                 .map(|&(p, k)| trace(p, taken[p as usize] + k))
@@ -318,12 +318,11 @@ impl<'a> Progressive<'a> {
         // In pixel order, so in row order as splatting wants.
         let samples: Vec<(Splat, FirstHit)> = results
             .iter()
-            .map(|&(pixel, offset, ref value)| {
+            .map(|&(pixel, ref value)| {
                 self.taken[pixel as usize] += 1;
                 let splat = Splat {
                     x: (pixel % u64::from(width)) as u32,
                     y: (pixel / u64::from(width)) as u32,
-                    offset,
                     radiance: value.radiance,
                 };
                 (splat, value.first)
@@ -333,14 +332,11 @@ impl<'a> Progressive<'a> {
         self.film.splat_all(&splats, options.filter);
         self.guides.splat_all(&samples, options.filter);
         if let Some(cache) = &mut self.cache {
-            let deposits: Vec<_> = results.iter().filter_map(|(_, _, v)| v.deposit).collect();
+            let deposits: Vec<_> = results.iter().filter_map(|(_, v)| v.deposit).collect();
             cache.add_all(&deposits);
         }
         self.total += results.len() as u64;
-        self.rays += results
-            .iter()
-            .map(|(_, _, v)| u64::from(v.rays))
-            .sum::<u64>();
+        self.rays += results.iter().map(|(_, v)| u64::from(v.rays)).sum::<u64>();
         self.rounds += 1;
     }
 
@@ -388,9 +384,6 @@ impl<'a> Progressive<'a> {
         }
     }
 }
-
-/// Where a sample lies in its pixel, in [0, 1)².
-type Offset = (f64, f64);
 
 /// What adaptive sampling aims at.
 #[derive(Clone, Copy, Debug)]

@@ -318,7 +318,6 @@ fn the_guides_weigh_paths_as_the_film_does() {
         for x in 0..w {
             for k in 0..6u32 {
                 let mut s = Sampler::stratified(8, u64::from(y * w + x), u64::from(k));
-                let offset = s.next_2d();
                 let light = [1.0 + 4.0 * s.next_f64(), 2.0, 0.5 * f64::from(x % 3)];
                 let first = FirstHit {
                     albedo: [0.5; 3],
@@ -327,8 +326,8 @@ fn the_guides_weigh_paths_as_the_film_does() {
                     emitted: light,
                     ..FirstHit::default()
                 };
-                film.splat(x, y, offset, light, PixelFilter::GAUSSIAN);
-                guides.splat(x, y, offset, &first, light, PixelFilter::GAUSSIAN);
+                film.splat(x, y, light, PixelFilter::GAUSSIAN);
+                guides.splat(x, y, &first, light, PixelFilter::GAUSSIAN);
             }
         }
     }

@@ -486,14 +486,14 @@ fn merging_equals_adding_everything() {
     assert!((merged.relative_noise() - all.relative_noise()).abs() < 1e-9);
 }
 
-/// One sample: its pixel, its offset in the pixel, its radiance.
-type Splat = (u32, u32, (f64, f64), [f64; 3]);
+/// One sample: its pixel and its radiance.
+type Splat = (u32, u32, [f64; 3]);
 
-/// Every sample of a random image (a noisy value per pixel around a smooth ramp),
-/// splatted with `filter` from offsets of a stratified sampler.
+/// A random image (a noisy value per pixel around a smooth ramp) splatted with `filter`, each
+/// pixel with its own number of samples, from 1 up to `most` (as adaptive sampling leaves them).
 fn splatted_film(
     (w, h): (u32, u32),
-    samples: u64,
+    most: u64,
     seed: u64,
     filter: PixelFilter,
 ) -> (Film, Vec<Splat>) {
@@ -501,14 +501,14 @@ fn splatted_film(
     let mut all = Vec::new();
     for y in 0..h {
         for x in 0..w {
+            let pixel = u64::from(y * w + x);
+            let samples = 1 + Sampler::new(seed, pixel, u64::MAX).next_u64() % most;
             for k in 0..samples {
-                let pixel = u64::from(y * w + x);
                 let mut s = Sampler::stratified(seed, pixel, k);
-                let offset = s.next_2d();
                 let v = 0.2 + 0.01 * f64::from(x) + s.next_f64();
                 let c = [v, 0.5 * v, 2.0 * v];
-                film.splat(x, y, offset, c, filter);
-                all.push((x, y, offset, c));
+                film.splat(x, y, c, filter);
+                all.push((x, y, c));
             }
         }
     }
@@ -517,26 +517,29 @@ fn splatted_film(
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
-    /// A pixel's value and standard error under a filter are the weighted mean of the samples
-    /// that reach it and the textbook standard error of a weighted mean of independent samples,
-    /// √(s²·Σw²)/Σw with s² = Σw(L − mean)²/(Σw − Σw²/Σw).
+    /// A pixel's value under a filter is the filter's weighted mean of its neighbours' own
+    /// means, Σ Kⱼ mⱼ / Σ Kⱼ, however many samples each neighbour has — the mean of its samples
+    /// weighted Kⱼ/nⱼ — and its standard error is the textbook one of that weighted mean of
+    /// independent samples, √(s²·Σw²)/Σw with s² = Σw(L − mean)²/(Σw − Σw²/Σw).
     #[test]
-    fn a_filtered_pixel_is_the_weighted_mean_of_its_samples(
+    fn a_filtered_pixel_is_the_weighted_mean_of_its_neighbours_means(
         seed in 0u64..1000,
-        samples in 1u64..6,
+        most in 1u64..12,
         gaussian in any::<bool>(),
     ) {
         let filter = if gaussian { PixelFilter::GAUSSIAN } else { PixelFilter::Box };
+        let weights = filter.pixel_weights();
+        let k = |d: i64| weights.iter().find(|w| i64::from(w.0) == d).map_or(0.0, |w| w.1);
         let (w, h) = (5, 4);
-        let (film, all) = splatted_film((w, h), samples, seed, filter);
+        let (film, all) = splatted_film((w, h), most, seed, filter);
         for y in 0..h {
             for x in 0..w {
                 let reach: Vec<(f64, [f64; 3])> = all
                     .iter()
-                    .filter_map(|&(i, j, offset, c)| {
-                        let pixels = filter.footprint(i, j, offset, w, h);
-                        let found = pixels.iter().find(|&&(a, b, _)| (a, b) == (x, y));
-                        found.map(|&(_, _, weight)| (weight, c))
+                    .filter_map(|&(i, j, c)| {
+                        let kernel = k(i64::from(i) - i64::from(x)) * k(i64::from(j) - i64::from(y));
+                        let n = film.samples(i, j) as f64;
+                        (kernel > 0.0).then(|| (kernel / n, c))
                     })
                     .collect();
                 let sw: f64 = reach.iter().map(|r| r.0).sum();
@@ -560,19 +563,49 @@ proptest! {
     }
 }
 
+/// The bias that pbrt's splatting has under adaptive sampling, and this film has not: a sharp
+/// edge between a bright and a dark half, the bright pixels sampled 50 times as often. The
+/// dark pixel next to the edge must come out as with equal samples.
+#[test]
+fn a_neighbour_with_more_samples_weighs_no_more() {
+    let (w, h) = (6, 3);
+    let value = |x: u32| if x < 3 { 10.0 } else { 0.1 };
+    let film_with = |bright: u64| {
+        let mut film = Film::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                let n = if x < 3 { bright } else { 1 };
+                for _ in 0..n {
+                    film.splat(x, y, [value(x); 3], PixelFilter::GAUSSIAN);
+                }
+            }
+        }
+        film
+    };
+    let (even, skewed) = (film_with(1), film_with(50));
+    for y in 0..h {
+        for x in 0..w {
+            let (a, b) = (even.pixel(x, y)[0], skewed.pixel(x, y)[0]);
+            assert!((a - b).abs() < 1e-12 * a, "({x}, {y}): {a} vs {b}");
+        }
+    }
+    // The dark pixel at the edge takes a little of the bright side, as a filter should.
+    assert!(even.pixel(3, 1)[0] > 0.5 && even.pixel(3, 1)[0] < 3.0);
+}
+
 #[test]
 fn merging_splatted_films_equals_splatting_everything() {
     let (w, h) = (6, 5);
     let (all, samples) = splatted_film((w, h), 4, 9, PixelFilter::GAUSSIAN);
     let mut parts = [Film::new(w, h), Film::new(w, h)];
-    for (k, &(x, y, offset, c)) in samples.iter().enumerate() {
-        parts[k % 2].splat(x, y, offset, c, PixelFilter::GAUSSIAN);
+    for (k, &(x, y, c)) in samples.iter().enumerate() {
+        parts[k % 2].splat(x, y, c, PixelFilter::GAUSSIAN);
     }
     let mut merged = parts[0].clone();
     merged.merge(&parts[1]);
     for y in 0..h {
         for x in 0..w {
-            assert_eq!(merged.samples(x, y), 4);
+            assert_eq!(merged.samples(x, y), all.samples(x, y));
             for (a, b) in merged.pixel(x, y).iter().zip(all.pixel(x, y)) {
                 assert!((a - b).abs() < 1e-12);
             }
@@ -583,8 +616,8 @@ fn merging_splatted_films_equals_splatting_everything() {
 }
 
 /// The Gaussian averages each pixel over its neighbours' samples: for independent noise its
-/// pixels vary about a third as much as the box's (1/(4πσ²) untruncated), and the standard
-/// error it reports is what the pixels really vary by.
+/// pixels vary about a quarter as much as the box's (Σ K² / (Σ K)² ≈ 0.28 for the pixel
+/// weights K), and the standard error it reports is what the pixels really vary by.
 #[test]
 fn the_gaussian_filter_lowers_the_noise_and_says_how_much() {
     let (w, h, n) = (48u32, 48u32, 8u64);
@@ -594,8 +627,7 @@ fn the_gaussian_filter_lowers_the_noise_and_says_how_much() {
             for x in 0..w {
                 for k in 0..n {
                     let mut s = Sampler::new(3, u64::from(y * w + x), k);
-                    let offset = s.next_2d();
-                    film.splat(x, y, offset, [s.next_f64(); 3], filter);
+                    film.splat(x, y, [s.next_f64(); 3], filter);
                 }
             }
         }

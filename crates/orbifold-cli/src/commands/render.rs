@@ -101,6 +101,7 @@ pub(crate) fn settings_and_options(
         straight_rays: args.straight_rays || of_scene.straight_rays,
         pixel_footprint: !args.no_footprint,
         radiance_cache: !args.no_radiance_cache,
+        light_candidates: args.light_candidates,
     };
     let (width, height) = args
         .size
