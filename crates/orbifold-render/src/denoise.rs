@@ -249,28 +249,14 @@ impl Guides {
         if let Some(path) = GuidePath::new(first, radiance) {
             self.own[i].add(&path, 1.0);
         }
-        if self.filter == PixelFilter::Box {
-            self.pixels[i] = self.own[i];
-            return;
-        }
-        let weights = self.filter.pixel_weights();
-        let (w, h) = (self.width as i64, self.height as i64);
-        for &(dy, _) in &weights {
-            for &(dx, _) in &weights {
-                let (px, py) = (i64::from(x) + i64::from(dx), i64::from(y) + i64::from(dy));
-                if px < 0 || py < 0 || px >= w || py >= h {
-                    continue;
-                }
-                self.pixels[(py * w + px) as usize] = self.filter.filtered(
-                    &weights,
-                    &self.own,
-                    (self.width, self.height),
-                    (px as u32, py as u32),
-                    |p| p.weight,
-                    GuideSums::merge_scaled,
-                );
-            }
-        }
+        self.filter.filter_around(
+            &self.own,
+            &mut self.pixels,
+            (self.width, self.height),
+            (x, y),
+            |p| p.weight,
+            GuideSums::merge_scaled,
+        );
     }
 
     /// [`Guides::splat`] for many paths at once, as [`Film::splat_all`]: each sample's pixel

@@ -267,29 +267,16 @@ impl Film {
 
     /// The filtered sums afresh of the pixels that pixel index `i`'s own samples count for.
     fn filter_around(&mut self, i: usize) {
-        if self.filter == PixelFilter::Box {
-            self.pixels[i] = self.own[i];
-            return;
-        }
-        let weights = self.filter.pixel_weights();
-        let (w, h) = (self.width as usize, self.height as usize);
-        let (x, y) = (i % w, i / w);
-        for &(dy, _) in &weights {
-            for &(dx, _) in &weights {
-                let (px, py) = (x as i64 + i64::from(dx), y as i64 + i64::from(dy));
-                if px < 0 || py < 0 || px >= w as i64 || py >= h as i64 {
-                    continue;
-                }
-                self.pixels[py as usize * w + px as usize] = self.filter.filtered(
-                    &weights,
-                    &self.own,
-                    (self.width, self.height),
-                    (px as u32, py as u32),
-                    |p| p.weight,
-                    |into, from, factor| into.merge(&from.scaled(factor)),
-                );
-            }
-        }
+        let w = self.width as usize;
+        let at = ((i % w) as u32, (i / w) as u32);
+        self.filter.filter_around(
+            &self.own,
+            &mut self.pixels,
+            (self.width, self.height),
+            at,
+            |p| p.weight,
+            |into, from, factor| into.merge(&from.scaled(factor)),
+        );
     }
 
     /// Uses `filter` from now on (all pixels are filtered afresh if it changes).

@@ -210,6 +210,42 @@ impl PixelFilter {
         state
     }
 
+    /// [`PixelFilter::filtered`] afresh, into `out`, for the pixels that pixel (`x`, `y`)'s
+    /// own samples count for (after a sample was added to it).
+    pub(crate) fn filter_around<P: Default + Clone>(
+        self,
+        own: &[P],
+        out: &mut [P],
+        (width, height): (u32, u32),
+        (x, y): (u32, u32),
+        count: impl Fn(&P) -> f64,
+        merge_scaled: impl Fn(&mut P, &P, f64),
+    ) {
+        let index = |px: u32, py: u32| py as usize * width as usize + px as usize;
+        if self == PixelFilter::Box {
+            out[index(x, y)] = own[index(x, y)].clone();
+            return;
+        }
+        let weights = self.pixel_weights();
+        for &(dy, _) in &weights {
+            for &(dx, _) in &weights {
+                let (px, py) = (i64::from(x) + i64::from(dx), i64::from(y) + i64::from(dy));
+                if px < 0 || py < 0 || px >= i64::from(width) || py >= i64::from(height) {
+                    continue;
+                }
+                let (px, py) = (px as u32, py as u32);
+                out[index(px, py)] = self.filtered(
+                    &weights,
+                    own,
+                    (width, height),
+                    (px, py),
+                    &count,
+                    &merge_scaled,
+                );
+            }
+        }
+    }
+
     /// [`PixelFilter::filtered`] for every pixel, into `out`, rows in parallel.
     ///
     /// # Panics
