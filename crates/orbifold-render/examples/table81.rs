@@ -5,7 +5,8 @@
 //! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
 //! box|gaussian] [--light-candidates N]` (`--save`
 //! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
-//! level, and the samples each pixel got; `--uniform`: no adaptive sampling; `--raw-target`:
+//! level, the samples each pixel got, and each pixel's own estimate of its raw display noise
+//! (16-bit, 256 grey values a level); `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
 //! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
 //! the radiance cache; `--reference T`: also the error of the first image, raw and denoised,
@@ -225,6 +226,22 @@ fn write_samples(film: &Film, path: &std::path::Path) {
     .expect("the sample map is written");
 }
 
+/// Writes each pixel's own estimate of its display noise ([`Film::display_errors`], one
+/// standard error in 8-bit levels) as a 16-bit grey PNG, 256 grey values a level: to set beside
+/// the noise measured between two seeds (which also holds what no pixel's error sees, such as
+/// the radiance cache's).
+fn write_estimated_errors(film: &Film, exposure: f64, path: &std::path::Path) {
+    let grey: Vec<u16> = film
+        .display_errors(exposure)
+        .iter()
+        .map(|&e| (256.0 * e).round().clamp(0.0, 65535.0) as u16)
+        .collect();
+    let buffer =
+        image::ImageBuffer::<image::Luma<u16>, _>::from_raw(film.width(), film.height(), grey)
+            .expect("one value a pixel");
+    buffer.save(path).expect("the error map is written");
+}
+
 /// One seed's image at a checkpoint, raw and denoised, with the exposure of the raw one.
 struct Checkpoint {
     seconds: f64,
@@ -436,6 +453,11 @@ fn main() {
                 &dir.join(format!("{name}-difference.png")),
             );
             write_samples(&a.film, &dir.join(format!("{name}-samples.png")));
+            write_estimated_errors(
+                &a.film,
+                exposure,
+                &dir.join(format!("{name}-estimated-errors.png")),
+            );
         }
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);

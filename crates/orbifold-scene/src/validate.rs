@@ -6,7 +6,7 @@ use num_complex::Complex64;
 use orbifold::Signature;
 use orbifold::layout::{Layout, LayoutOptions, Shape};
 
-use crate::document::{Color, Material, Scene, ShapeName};
+use crate::document::{Color, LightKind, Material, Scene, ShapeName};
 
 /// The built-in object shapes.
 pub const SHAPES: [&str; 9] = [
@@ -162,6 +162,9 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
     }
     let c = &scene.camera;
     position(&mut p, "camera.at", c.at, &inside);
+    if let Some(layout) = &layout {
+        camera_outside_lights(&mut p, scene, layout);
+    }
     range(
         &mut p,
         "camera.height",
@@ -266,6 +269,33 @@ fn walls(p: &mut Problems, scene: &Scene, layout: Option<&Layout>, base: Option<
                 ));
             }
             unit_color(p, &format!("{key}.reflectance"), &m.reflectance);
+        }
+    }
+}
+
+/// A camera inside a sphere light sees only the light's inner side: a white picture, or a
+/// puzzling one. The distance is the product space's, √(d² + Δh²), with d the intrinsic
+/// distance in the plane.
+fn camera_outside_lights(p: &mut Problems, scene: &Scene, layout: &Layout) {
+    let c = &scene.camera;
+    let space = layout.space();
+    let z = |at: [f64; 2]| Complex64::new(at[0], at[1]);
+    for (i, l) in scene.lights.iter().enumerate() {
+        if l.kind != LightKind::Sphere {
+            continue;
+        }
+        let across = space.distance(z(c.at), z(l.at));
+        let distance = across.hypot(c.height - l.height);
+        if distance < l.radius {
+            p.push((
+                "camera.at".into(),
+                format!(
+                    "the camera is inside lights[{i}], a sphere of radius {} around ({}, {}) at \
+                     height {} ({distance:.3} from its centre): move the camera or make the \
+                     light smaller",
+                    l.radius, l.at[0], l.at[1], l.height
+                ),
+            ));
         }
     }
 }

@@ -164,6 +164,35 @@ to = 0.2
 }
 
 #[test]
+fn a_camera_inside_a_sphere_light_is_an_error() {
+    // Distances are intrinsic: near the centre of a hyperbolic room (Poincaré disc) a model
+    // offset of 0.08 is at least 0.16 away, outside a light of radius 0.12; 0.04 is inside.
+    let mut scene = Scene::default();
+    scene.orbifold.signature = "*2223".into();
+    let layout = scene.layout().unwrap();
+    let c = [layout.centre.re, layout.centre.im];
+    scene.lights[0].kind = LightKind::Sphere;
+    (scene.lights[0].at, scene.lights[0].height, scene.lights[0].radius) = (c, 0.6, 0.12);
+    scene.camera.height = 0.6;
+    for (offset, inside) in [(0.04, true), (0.08, false)] {
+        scene.camera.at = [c[0] + offset, c[1]];
+        let result = scene.check(None);
+        assert_eq!(result.is_err(), inside, "{offset}: {result:?}");
+        if let Err(errors) = result {
+            assert_eq!(errors[0].key.as_deref(), Some("camera.at"));
+            assert!(errors[0].message.contains("inside lights[0]"));
+        }
+    }
+    // Above the light, beyond its radius: fine. A point light has no inside.
+    scene.camera.at = c;
+    scene.camera.height = 0.75;
+    assert!(scene.check(None).is_ok());
+    scene.camera.height = 0.6;
+    scene.lights[0].kind = LightKind::Point;
+    assert!(scene.check(None).is_ok());
+}
+
+#[test]
 fn load_and_save_through_files() {
     let tmp = tempfile::Builder::new()
         .prefix("orbifold-scene-test-")
