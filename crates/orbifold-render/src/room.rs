@@ -397,12 +397,19 @@ impl AnalyticRoom {
         point: DVec3,
         height: f64,
     ) -> Option<(usize, &MirrorRect)> {
-        let along = self.along(wall, point).clamp(0.0, 1.0);
-        self.walls[wall]
-            .mirrors
-            .iter()
-            .enumerate()
-            .find(|(_, m)| m.covers(along, height))
+        // Where along the wall the point is costs inverse hyperbolic or circular functions; a
+        // mirror across the whole wall (every wall of a room of mirrors) does not need it.
+        let mut along = None;
+        self.walls[wall].mirrors.iter().enumerate().find(|(_, m)| {
+            if !(m.bottom <= height && height <= m.top) {
+                return false;
+            }
+            if m.from <= 0.0 && m.to >= 1.0 {
+                return true;
+            }
+            let along = *along.get_or_insert_with(|| self.along(wall, point).clamp(0.0, 1.0));
+            m.covers(along, height)
+        })
     }
 
     /// Whether a point is inside the room (to `tolerance` in the walls' linear forms).
@@ -445,6 +452,39 @@ mod tests {
                     prop_assert!(k2 < k1, "σ {s2} < {s1} but keys {k2} ≥ {k1}");
                 }
             }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn mirror_at_is_the_first_mirror_that_covers_the_point(
+            g in 0usize..3,
+            rects in proptest::collection::vec(
+                (-0.2f64..0.7, 0.3f64..1.2, -0.1f64..0.6, 0.4f64..1.1), 1..4),
+            at in 0.0f64..1.0, height in 0.0f64..1.0,
+        ) {
+            // The shortcut for mirrors across the whole wall gives what the definition does:
+            // the first mirror whose rectangle holds (along, height), along clamped to [0, 1].
+            let signature = ["*235", "*2222", "*2223"][g];
+            let layout = orbifold::layout::Layout::new(
+                &signature.parse().unwrap(),
+                &orbifold::layout::LayoutOptions::default(),
+            )
+            .unwrap();
+            let mirrors: Vec<MirrorRect> = rects
+                .iter()
+                .map(|&(from, to, bottom, top)| MirrorRect {
+                    from, to, bottom, top, reflectance: [0.5; 3],
+                })
+                .collect();
+            let walls = vec![mirrors.clone(); layout.edges.len()];
+            let room = AnalyticRoom::new(&layout, 1.0, None, &walls).unwrap();
+            let mesher = orbifold::room::RoomMesher::new(&layout, &Default::default()).unwrap();
+            let point = mesher.wall_point(0, at).unwrap();
+            let along = room.along(0, point).clamp(0.0, 1.0);
+            prop_assert!((along - at).abs() < 1e-9, "{along} {at}");
+            let expected = mirrors.iter().position(|m| m.covers(along, height));
+            prop_assert_eq!(room.mirror_at(0, point, height).map(|(i, _)| i), expected);
         }
     }
 

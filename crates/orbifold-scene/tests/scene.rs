@@ -172,7 +172,11 @@ fn a_camera_inside_a_sphere_light_is_an_error() {
     let layout = scene.layout().unwrap();
     let c = [layout.centre.re, layout.centre.im];
     scene.lights[0].kind = LightKind::Sphere;
-    (scene.lights[0].at, scene.lights[0].height, scene.lights[0].radius) = (c, 0.6, 0.12);
+    (
+        scene.lights[0].at,
+        scene.lights[0].height,
+        scene.lights[0].radius,
+    ) = (c, 0.6, 0.12);
     scene.camera.height = 0.6;
     for (offset, inside) in [(0.04, true), (0.08, false)] {
         scene.camera.at = [c[0] + offset, c[1]];
