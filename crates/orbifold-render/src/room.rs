@@ -459,9 +459,13 @@ mod tests {
         #[test]
         fn mirror_at_is_the_first_mirror_that_covers_the_point(
             g in 0usize..3,
-            rects in proptest::collection::vec(
-                (-0.2f64..0.7, 0.3f64..1.2, -0.1f64..0.6, 0.4f64..1.1), 1..4),
-            at in 0.0f64..1.0, height in 0.0f64..1.0,
+            // Ends at, before and just after the wall's own, and points near them.
+            rects in proptest::collection::vec((
+                prop_oneof![Just(0.0), Just(-0.1), 0.0f64..0.1, 0.1f64..0.7],
+                prop_oneof![Just(1.0), Just(1.1), 0.9f64..1.0, 0.3f64..0.9],
+                -0.1f64..0.6, 0.4f64..1.1,
+            ), 1..4),
+            at in prop_oneof![0.0f64..0.1, 0.9f64..1.0, 0.0f64..1.0], height in 0.0f64..1.0,
         ) {
             // The shortcut for mirrors across the whole wall gives what the definition does:
             // the first mirror whose rectangle holds (along, height), along clamped to [0, 1].
