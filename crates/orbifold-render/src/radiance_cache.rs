@@ -26,7 +26,8 @@
 //! far images off the cache, while the mean blurs their lighting by at most √(across/up) pixel
 //! heights up and down, less than a pixel across (measured in docs/benchmarks.md).
 //!
-//! A render fills the cache from its own paths: after each round the estimates of the paths
+//! A render fills the cache from its own paths: after each round (and after the first half of
+//! the first, [`crate::render`]) the estimates of the paths
 //! that traced their first diffuse surface in full are added in pixel order (so an image is
 //! the same for a given seed whatever the number of threads). A cell is used once it holds
 //! [`READY`] estimates; a fraction [`PROBE`] of the camera paths whose first surface could use
@@ -168,14 +169,20 @@ fn mix(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// The key of the cell of `level` that holds (point, height) facing `facing`.
-fn key(level: u32, point: DVec3, height: f64, facing: u8) -> u64 {
-    let size = FINEST_CELL * f64::from(1u32 << level);
+/// The indices of the finest cell that holds (point, height), along each ambient axis and up.
+/// A coarser level's cell is these shifted right by the level: the cells are nested, each
+/// twice the size of the one below, and dividing by a power of two is exact in floating point,
+/// so ⌊⌊c/s⌋/2ˡ⌋ = ⌊c/(2ˡs)⌋ holds to the last bit.
+fn finest_cell(point: DVec3, height: f64) -> [i64; 4] {
+    // Saturating casts: far points share an edge cell, harmlessly.
+    [point.x, point.y, point.z, height].map(|c| (c / FINEST_CELL).floor() as i64)
+}
+
+/// The key of the cell of `level` that holds the finest cell `finest` facing `facing`.
+fn key(level: u32, finest: [i64; 4], facing: u8) -> u64 {
     let mut k = mix(u64::from(level) << 8 | u64::from(facing));
-    for c in [point.x, point.y, point.z, height] {
-        // Saturating casts: far points share an edge cell, harmlessly.
-        let i = (c / size).floor() as i64;
-        k = mix(k ^ i as u64);
+    for i in finest {
+        k = mix(k ^ (i >> level) as u64);
     }
     k
 }
@@ -203,13 +210,17 @@ impl RadianceCache {
             let ok = |v: &f64| v.is_finite() && *v >= -1e-9;
             d.total.iter().all(ok)
         };
-        let deposits: Vec<&Deposit> = deposits.iter().filter(valid).collect();
+        let deposits: Vec<(&Deposit, [i64; 4])> = deposits
+            .iter()
+            .filter(valid)
+            .map(|d| (d, finest_cell(d.point, d.height)))
+            .collect();
         self.levels
             .par_iter_mut()
             .enumerate()
             .for_each(|(level, cells)| {
-                for deposit in &deposits {
-                    let k = key(level as u32, deposit.point, deposit.height, deposit.facing);
+                for (deposit, finest) in &deposits {
+                    let k = key(level as u32, *finest, deposit.facing);
                     let cell = cells.entry(k).or_default();
                     for c in 0..3 {
                         cell.total[c] += deposit.total[c].max(0.0);
@@ -242,7 +253,8 @@ impl RadianceCache {
         let (a, b) = ((jitter[0] - 0.5) * size, (jitter[1] - 0.5) * size);
         let point = point + tangents[0].0 * a + tangents[1].0 * b;
         let height = height + tangents[0].1 * a + tangents[1].1 * b;
-        let cell = self.levels[level as usize].get(&key(level, point, height, facing))?;
+        let k = key(level, finest_cell(point, height), facing);
+        let cell = self.levels[level as usize].get(&k)?;
         let n = f64::from(cell.count);
         (cell.count >= READY).then(|| cell.total.map(|s| s / n))
     }

@@ -23,9 +23,14 @@
 //! Far mirror images crowd into a few pixels (the horizon of a hyperbolic room holds thousands
 //! of copies of the room); they get the samples, while smooth walls do not.
 //!
+//! With a radiance cache ([`crate::radiance_cache`]), the first round is taken in two halves, a
+//! checkerboard: with no cache to read, its paths are traced in full, about twice a later
+//! round's work, so the first half fills the cache and the second reads it (at 896² in the
+//! hyperbolic `*444`, 6.0 s instead of 7.8 s).
+//!
 //! Every sample's random numbers depend only on (seed, pixel, the pixel's sample index), and
-//! each round is added to the film in pixel order, so an image is the same for a given seed
-//! whatever the number of threads.
+//! each round (each half of the first) is added to the film and the cache in pixel order, so an
+//! image is the same for a given seed whatever the number of threads.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,7 +44,7 @@ use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::{Film, Splat};
 use crate::filter::PixelFilter;
 use crate::integrator::{FirstHit, Integrator, PathSample, Settings};
-use crate::radiance_cache::RadianceCache;
+use crate::radiance_cache::{Deposit, RadianceCache};
 use crate::sampler::Sampler;
 
 /// What to render.
@@ -227,6 +232,19 @@ pub struct Progressive<'a> {
     /// The radiance cache for far mirror images, filled from the rounds so far
     /// ([`crate::radiance_cache`]).
     cache: Option<RadianceCache>,
+    /// The last round's paths and what they add to the film, the guides and the cache, kept
+    /// from round to round: a round at 896² holds a few hundred megabytes, and fresh memory
+    /// each round cost more in page faults than the bookkeeping itself.
+    buffers: RoundBuffers,
+}
+
+/// Memory reused by every round ([`Progressive::round`]).
+#[derive(Default)]
+struct RoundBuffers {
+    results: Vec<(u64, PathSample)>,
+    samples: Vec<(Splat, FirstHit)>,
+    splats: Vec<Splat>,
+    deposits: Vec<Deposit>,
 }
 
 impl<'a> Progressive<'a> {
@@ -249,6 +267,7 @@ impl<'a> Progressive<'a> {
             rounds: 0,
             reduction: None,
             cache: integrator.uses_radiance_cache().then(RadianceCache::new),
+            buffers: RoundBuffers::default(),
         }
     }
 
@@ -289,6 +308,31 @@ impl<'a> Progressive<'a> {
                 noisiest(&self.film, &self.taken, target)
             })
             .flatten();
+        match chosen {
+            Some(list) => self.take(Some(&list)),
+            None if self.rounds == 0 && self.cache.is_some() => {
+                // The first round has no radiance cache to read, so every path is traced in
+                // full (about twice a later round's work). Half the pixels, a checkerboard,
+                // go first and fill the cache that the other half then reads.
+                let half = |parity: u64| -> Vec<(u64, u32)> {
+                    (0..pixels)
+                        .filter(|p| (p % u64::from(width) + p / u64::from(width)) % 2 == parity)
+                        .map(|p| (p, 0))
+                        .collect()
+                };
+                self.take(Some(&half(0)));
+                self.take(Some(&half(1)));
+            }
+            None => self.take(None),
+        }
+        self.rounds += 1;
+    }
+
+    /// Traces the samples `chosen` ((pixel, which of its new samples), in pixel order), or one
+    /// for every pixel, and adds them to the film, the guides and the radiance cache.
+    fn take(&mut self, chosen: Option<&[(u64, u32)]>) {
+        let options = &self.options;
+        let (width, height) = (options.width, options.height);
         let taken = &self.taken;
         let cache = self.cache.as_ref();
         let (integrator, camera) = (self.integrator, self.camera);
@@ -305,39 +349,46 @@ impl<'a> Progressive<'a> {
             (pixel, sample)
         };
         // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
-        let results: Vec<(u64, PathSample)> = match &chosen {
+        let buffers = &mut self.buffers;
+        match chosen {
             Some(list) => list
                 .par_iter()
                 .map(|&(p, k)| trace(p, taken[p as usize] + k))
-                .collect(),
-            None => (0..pixels)
+                .collect_into_vec(&mut buffers.results),
+            None => (0..taken.len())
                 .into_par_iter()
-                .map(|p| trace(p, taken[p as usize]))
-                .collect(),
-        };
+                .map(|p| trace(p as u64, taken[p]))
+                .collect_into_vec(&mut buffers.results),
+        }
+        let results = &buffers.results;
         // In pixel order, so in row order as splatting wants.
-        let samples: Vec<(Splat, FirstHit)> = results
-            .iter()
-            .map(|&(pixel, ref value)| {
-                self.taken[pixel as usize] += 1;
-                let splat = Splat {
-                    x: (pixel % u64::from(width)) as u32,
-                    y: (pixel / u64::from(width)) as u32,
-                    radiance: value.radiance,
-                };
-                (splat, value.first)
-            })
-            .collect();
-        let splats: Vec<Splat> = samples.iter().map(|(s, _)| *s).collect();
-        self.film.splat_all(&splats, options.filter);
-        self.guides.splat_all(&samples, options.filter);
+        buffers.samples.clear();
+        buffers.samples.extend(results.iter().map(|(pixel, value)| {
+            let splat = Splat {
+                x: (pixel % u64::from(width)) as u32,
+                y: (pixel / u64::from(width)) as u32,
+                radiance: value.radiance,
+            };
+            (splat, value.first)
+        }));
+        for (pixel, _) in results {
+            self.taken[*pixel as usize] += 1;
+        }
+        buffers.splats.clear();
+        buffers
+            .splats
+            .extend(buffers.samples.iter().map(|(s, _)| *s));
+        self.film.splat_all(&buffers.splats, options.filter);
+        self.guides.splat_all(&buffers.samples, options.filter);
         if let Some(cache) = &mut self.cache {
-            let deposits: Vec<_> = results.iter().filter_map(|(_, v)| v.deposit).collect();
-            cache.add_all(&deposits);
+            buffers.deposits.clear();
+            buffers
+                .deposits
+                .extend(results.iter().filter_map(|(_, v)| v.deposit));
+            cache.add_all(&buffers.deposits);
         }
         self.total += results.len() as u64;
         self.rays += results.iter().map(|(_, v)| u64::from(v.rays)).sum::<u64>();
-        self.rounds += 1;
     }
 
     /// Rounds done.
@@ -481,6 +532,31 @@ mod tests {
         // (5 + 11/100)/16 e², so each chosen pixel gets ⌊16/5.11⌋ = 3 samples.
         let expected: Vec<(u64, u32)> = (0..5).flat_map(|p| (0..3).map(move |k| (p, k))).collect();
         assert_eq!(chosen, expected);
+    }
+
+    #[test]
+    fn the_first_round_fills_the_cache_from_half_the_pixels_for_the_other_half() {
+        let scene = Scene::default();
+        let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+        assert!(integrator.uses_radiance_cache());
+        let camera = Camera::new(integrator.space(), &scene.camera);
+        let options = RenderOptions::new(96, 64, 4, 3);
+        let mut progressive = Progressive::new(&integrator, &camera, &options);
+        progressive.round();
+        // One sample for every pixel, as in any full round.
+        assert_eq!(progressive.paths(), 96 * 64);
+        assert!(progressive.taken.iter().all(|&n| n == 1));
+        // The last half taken (the odd squares of the checkerboard) read the cache that the
+        // first half filled, so its paths were shorter.
+        let odd = &progressive.buffers.results;
+        assert_eq!(odd.len(), 96 * 64 / 2);
+        assert!(odd.iter().all(|&(p, _)| (p % 96 + p / 96) % 2 == 1));
+        let odd_rays: u64 = odd.iter().map(|(_, s)| u64::from(s.rays)).sum();
+        let even_rays = progressive.rays() - odd_rays;
+        assert!(
+            (odd_rays as f64) < 0.95 * even_rays as f64,
+            "rays: {odd_rays} in the second half against {even_rays} in the first"
+        );
     }
 
     proptest! {
