@@ -292,6 +292,20 @@ mod tests {
         }
 
         #[test]
+        fn a_coarse_cell_is_the_finest_cells_index_shifted(
+            c in -1e6f64..1e6, level in 0..LEVELS,
+        ) {
+            // The cell of a level, found directly, is the finest cell's shifted by the level,
+            // on the cells' edges and just below them too.
+            let size = FINEST_CELL * f64::from(1u32 << level);
+            let edge = (c / size).round() * size;
+            for c in [c, edge, edge.next_down(), edge.next_up()] {
+                let direct = (c / size).floor() as i64;
+                prop_assert_eq!(finest_cell(DVec3::new(c, 0.0, 0.0), 0.0)[0] >> level, direct);
+            }
+        }
+
+        #[test]
         fn jitter_never_reaches_past_a_neighbouring_cell(
             x in -3.0f64..3.0, y in -3.0f64..3.0, far in 2.5f64..10.0,
             width in 0.01f64..1.0, u in proptest::array::uniform2(0.0f64..1.0),
