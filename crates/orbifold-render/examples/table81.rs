@@ -1,6 +1,6 @@
 //! The seed's Table 8.1 scenes rendered by our path tracer: how far a fixed time gets.
 //!
-//! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T]
+//! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T] [--spp N]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
 //! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
 //! box|gaussian] [--light-candidates N]` (`--save`
@@ -9,7 +9,9 @@
 //! (16-bit, 256 grey values a level); `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
 //! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
-//! the radiance cache; `--reference T`: also the error of the first image, raw and denoised,
+//! the radiance cache; `--spp N`: N samples a pixel (a mean, with adaptive sampling) instead of
+//! a time limit, so that per-sample noise can be compared whatever else the machine runs;
+//! `--reference T`: also the error of the first image, raw and denoised,
 //! against a reference rendered for T seconds without the radiance cache: the bias of the
 //! denoiser and of the cache shows there; `--crease`: the object's crease angle for smooth shading, 0 for flat faces;
 //! `--checkpoints`: instead of the table, each room's two seeds rendered to the last of these
@@ -50,6 +52,7 @@ use orbifold_scene::{LightKind, Scene};
 struct Args {
     size: u32,
     seconds: f64,
+    spp: Option<u32>,
     only: Option<String>,
     mesh: Option<String>,
     save: Option<std::path::PathBuf>,
@@ -68,6 +71,7 @@ fn parse_args() -> Args {
     let mut args = Args {
         size: 896,
         seconds: 120.0,
+        spp: None,
         only: None,
         mesh: None,
         save: None,
@@ -94,6 +98,7 @@ fn parse_args() -> Args {
         match a.as_str() {
             "--size" => args.size = value().parse().expect("--size N"),
             "--seconds" => args.seconds = value().parse().expect("--seconds T"),
+            "--spp" => args.spp = Some(value().parse().expect("--spp N")),
             "--only" => args.only = Some(value()),
             "--mesh" => args.mesh = Some(value()),
             "--save" => args.save = Some(value().into()),
@@ -405,9 +410,12 @@ fn main() {
             let options = RenderOptions {
                 width: args.size,
                 height: args.size,
-                samples: u32::MAX,
+                samples: args.spp.unwrap_or(u32::MAX),
                 seed,
-                time_limit: Some(Duration::from_secs_f64(seconds)),
+                time_limit: args
+                    .spp
+                    .is_none()
+                    .then(|| Duration::from_secs_f64(seconds)),
                 noise_target: None,
                 adaptive: !args.uniform,
                 denoised: !args.raw_target,
