@@ -34,9 +34,11 @@
 //! drawn from the distribution of visible normals (Heitz 2018, "Sampling the GGX Distribution
 //! of Visible Normals", JCGT 7(4)).
 
-use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+use std::f64::consts::{FRAC_1_PI, PI};
 
 use glam::DVec3;
+
+use crate::sampler::cosine_hemisphere;
 
 /// A linear RGB triple (reflectance, radiance or throughput, depending on use).
 ///
@@ -899,22 +901,6 @@ fn mirror(wo: DVec3) -> DVec3 {
 /// The mirror direction of `wo` about the unit normal `h`.
 fn reflect(wo: DVec3, h: DVec3) -> DVec3 {
     2.0 * wo.dot(h) * h - wo
-}
-
-/// A cosine-weighted direction on the upper hemisphere (Shirley–Chiu concentric mapping).
-fn cosine_hemisphere(u: (f64, f64)) -> DVec3 {
-    let a = 2.0 * u.0 - 1.0;
-    let b = 2.0 * u.1 - 1.0;
-    if a == 0.0 && b == 0.0 {
-        return DVec3::Z;
-    }
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * (b / a))
-    } else {
-        (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
-    };
-    let (x, y) = (r * phi.cos(), r * phi.sin());
-    DVec3::new(x, y, (1.0 - x * x - y * y).max(0.0).sqrt())
 }
 
 fn scale(c: Rgb, s: f64) -> Rgb {
