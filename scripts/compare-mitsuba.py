@@ -6,7 +6,8 @@ its true size: export coordinates are twice the model's, docs/room.md) and read 
 reads it (`orbifold scene show --json`). Its walls, floor, ceiling and objects become Mitsuba
 meshes with the exported normals: colours, checkerboards and image textures become `diffuse`
 (over our texture coordinates, docs/scene-format.md; an object's solid checkerboard through a
-small Python texture, `solid_checker`), mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
+small Python texture, `solid_checker`, and procedural marble through a port of ours,
+`marble`), mirrors perfect conductors of the same reflectance, glass `dielectric`, metals
 `roughconductor` (GGX, our complex indices) and plastic `roughplastic` (GGX over a diffuse base,
 `nonlinear`; ours uses smooth-interface transmittances where Mitsuba tabulates rough ones). Sphere lights
 become the same 352-triangle Lambertian polyhedron, rectangle lights rectangles facing the same
@@ -22,7 +23,10 @@ and the blocks' z-scores (white: agreement; red: ours brighter, blue: darker, fu
 errors).
 
 Needs `pip install mitsuba numpy pillow` (3.x; `--variant llvm_ad_rgb` is faster where
-Dr.Jit finds a recent libLLVM; the default is scalar_rgb) and a release build (`cargo build --release -p orbifold-cli`).
+Dr.Jit finds a recent libLLVM, such as Debian's libllvm19 (with the dev VM's 14 or 15 it failed
+to compile its kernels: "Cannot select ... fminimum"; DRJIT_LIBLLVM_PATH chooses one); the
+default is scalar_rgb, where a marble runs a Python function at every lookup: slow) and a
+release build (`cargo build --release -p orbifold-cli`).
 
     python3 scripts/compare-mitsuba.py examples/peer/mirrors-2222.toml \
         [--size 160x120] [--spp 1024] [--orbifold-spp 256] [--seeds 4] [--out DIR] \
@@ -293,6 +297,143 @@ def register_solid_checker(mi):
     mi.register_texture("solid_checker", lambda props: SolidChecker(props))
 
 
+def affine_texture_map(scene, where, group, material, positions):
+    """Our texture coordinates p = A x + b of an exported position x (`texture_coordinates`, affine
+    in x on each part: on a wall too), read off four points and checked at the part's vertices."""
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    t = texture_coordinates(scene, where, group, material, points)
+    linear, offset = (t[1:] - t[0]).T, t[0]
+    expected = texture_coordinates(scene, where, group, material, positions)
+    worst = float(np.abs(positions @ linear.T + offset - expected).max())
+    if worst > 1e-9 * max(1.0, float(np.abs(expected).max())):
+        sys.exit(f"error: {where}: texture coordinates that are not affine in the position")
+    return linear, offset
+
+
+def marble(scene, where, group, material, positions):
+    """Our procedural marble (orbifold_render::bsdf::marble) at the texture coordinates p, at the
+    frequency 1/scale (orbifold_render::integrator, `Look::Marble`): `marble`, registered by
+    `register_marble`, evaluates it at the hit's position through the affine map to p."""
+    linear, offset = affine_texture_map(scene, where, group, material, positions)
+    props = {"type": "marble", "frequency": 1.0 / float(material["scale"])}
+    for r in range(3):
+        props[f"offset_{r}"] = float(offset[r])
+        for c in range(3):
+            props[f"linear_{r}{c}"] = float(linear[r, c])
+    for name in ("base", "vein"):
+        for channel, value in zip("rgb", material[name]):
+            props[f"{name}_{channel}"] = float(value)
+    return props
+
+
+# Perlin's 12 cube-edge gradients, in the order of orbifold_render::bsdf::lattice_gradient.
+GRADIENTS = [(1, 1, 0), (-1, 1, 0), (1, -1, 0), (-1, -1, 0), (1, 0, 1), (-1, 0, 1), (1, 0, -1),
+             (-1, 0, -1), (0, 1, 1), (0, -1, 1), (0, 1, -1), (0, -1, -1)]
+MASK64 = (1 << 64) - 1
+
+
+def marble_vein_weight(mi, q):
+    """The veins' weight t in [0, 1] of orbifold_render::bsdf::marble at the point q (already
+    times the frequency), a port of its Rust line by line, in double precision: a sine of
+    q₀ + q₁/2 + 3 turbulence (6 octaves of |gradient noise|: Perlin's improved noise, quintic
+    fade, each lattice point's gradient chosen by SplitMix64 hashes of its integer coordinates).
+    `q` holds Python floats in the scalar variants, Dr.Jit Float64 arrays in the others (64-bit
+    integer arithmetic wraps there as in Rust; Python's integers are masked to 64 bits)."""
+    import drjit as dr
+    if mi.variant().startswith("scalar"):
+        floor, absolute, sin, wrap = math.floor, abs, math.sin, lambda x: x & MASK64
+        lattice = lambda c: int(c)
+        as_u64 = lambda i: i & MASK64
+        gradient = lambda h, axis: float(GRADIENTS[h % 12][axis])
+        clamp01 = lambda x: min(max(x, 0.0), 1.0)
+    else:
+        floor, absolute, sin, wrap = dr.floor, dr.abs, dr.sin, lambda x: x
+        lattice = lambda c: mi.Int64(c)
+        as_u64 = lambda i: dr.reinterpret_array(mi.UInt64, i)
+        tables = [mi.Float64([float(g[axis]) for g in GRADIENTS]) for axis in range(3)]
+        gradient = lambda h, axis: dr.gather(mi.Float64, tables[axis], mi.UInt32(h % 12))
+        # dr.clip on Float64 becomes LLVM's fminimum, which LLVM 14-15 cannot compile on x86.
+        clamp01 = lambda x: dr.select(x < 0.0, 0.0, dr.select(x > 1.0, 1.0, x))
+
+    def splitmix64(x):
+        z = wrap(x + 0x9E3779B97F4A7C15)
+        z = wrap((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9)
+        z = wrap((z ^ (z >> 27)) * 0x94D049BB133111EB)
+        return z ^ (z >> 31)
+
+    def fade(t):
+        return t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+
+    def lerp(t, a, b):
+        return a + t * (b - a)
+
+    def gradient_noise(p):
+        cell = [floor(x) for x in p]
+        f = [x - c for x, c in zip(p, cell)]
+        i = [lattice(c) for c in cell]
+        u, v, w = (fade(t) for t in f)
+
+        def corner(dx, dy, dz):
+            h = splitmix64(splitmix64(splitmix64(as_u64(i[0] + dx)) ^ as_u64(i[1] + dy))
+                           ^ as_u64(i[2] + dz))
+            return (gradient(h, 0) * (f[0] - dx) + gradient(h, 1) * (f[1] - dy)
+                    + gradient(h, 2) * (f[2] - dz))
+        x00 = lerp(u, corner(0, 0, 0), corner(1, 0, 0))
+        x10 = lerp(u, corner(0, 1, 0), corner(1, 1, 0))
+        x01 = lerp(u, corner(0, 0, 1), corner(1, 0, 1))
+        x11 = lerp(u, corner(0, 1, 1), corner(1, 1, 1))
+        return lerp(w, lerp(v, x00, x10), lerp(v, x01, x11))
+
+    turbulence, frequency = 0.0, 1.0
+    for _ in range(6):
+        turbulence = turbulence + absolute(gradient_noise([x * frequency for x in q])) / frequency
+        frequency *= 2.0
+    s = sin(math.pi * (q[0] + 0.5 * q[1] + 3.0 * turbulence))
+    t = clamp01(1.0 - absolute(s))
+    return (t * t) * (t * t)
+
+
+def register_marble(mi):
+    """Registers `marble`: a Mitsuba texture that is our procedural marble (`marble`), evaluated
+    at the hit's world position in double precision (Dr.Jit arithmetic in the vectorised
+    variants; in the scalar ones a Python function per lookup: slow)."""
+    import drjit as dr
+
+    class Marble(mi.Texture):
+        def __init__(self, props):
+            mi.Texture.__init__(self, props)
+            self.frequency = props["frequency"]
+            self.linear = [[props[f"linear_{r}{c}"] for c in range(3)] for r in range(3)]
+            self.offset = [props[f"offset_{r}"] for r in range(3)]
+            self.base = [props[f"base_{c}"] for c in "rgb"]
+            self.vein = [props[f"vein_{c}"] for c in "rgb"]
+
+        def eval(self, si, active=True):
+            x = [mi.Float64(si.p.x), mi.Float64(si.p.y), mi.Float64(si.p.z)]
+            p = [self.linear[r][0] * x[0] + self.linear[r][1] * x[1] + self.linear[r][2] * x[2]
+                 + self.offset[r] for r in range(3)]
+            t = marble_vein_weight(mi, [c * self.frequency for c in p])
+            channels = []
+            for base, vein in zip(self.base, self.vein):
+                c, lo, hi = base + (vein - base) * t, min(base, vein), max(base, vein)
+                channels.append(mi.Float(dr.select(c < lo, lo, dr.select(c > hi, hi, c))))
+            return mi.Color3f(*channels)
+
+        def eval_1(self, si, active=True):
+            return mi.luminance(self.eval(si, active))
+
+        def mean(self):
+            return mi.luminance(mi.Color3f(*self.base))
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return "Marble[our procedural marble]"
+
+    mi.register_texture("marble", lambda props: Marble(props))
+
+
 def checker_uv(scene, where, group, material, positions):
     """Mitsuba's checkerboard is color0 where ⌊2u⌋ + ⌊2v⌋ is even; ours takes colour
     ⌊p₀/size⌋ + ⌊p₁/size⌋ + ⌊p₂/size⌋ mod 2 of the texture coordinates p. On the floor, the
@@ -322,9 +463,8 @@ def check_materials(scene):
     found += [(f"objects[{i}].material", o["material"]) for i, o in enumerate(scene.get("objects", []))]
     for where, material in found:
         if material is not None and material["kind"] not in ("color", "checker", "texture", "glass",
-                                                             "metal", "plastic"):
-            sys.exit(f"error: {where}: procedural marble cannot be compared "
-                     f"(found {material['kind']!r})")
+                                                             "metal", "plastic", "marble"):
+            sys.exit(f"error: {where}: a {material['kind']!r} material cannot be compared")
 
 
 # Complex indices of refraction (η, k per RGB channel) of the named metals: the values of
@@ -372,6 +512,9 @@ def mitsuba_bsdf(scene, scene_dir, group, mtl, positions):
                 "specular_transmittance": rgb(material["tint"])}, None
     if kind == "checker" and not on_a_surface_of_the_room(where, group):
         texture = solid_checker(scene, where, group, material)
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, None
+    if kind == "marble":
+        texture = marble(scene, where, group, material, positions)
         return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": texture}}, None
     if kind == "checker":
         uv, flipped = checker_uv(scene, where, group, material, positions)
@@ -506,6 +649,7 @@ def main():
     variant = args.variant or "scalar_rgb"
     mi.set_variant(variant)
     register_solid_checker(mi)
+    register_marble(mi)
 
     with tempfile.TemporaryDirectory() as tmp:
         report = json.loads(subprocess.run(
@@ -520,9 +664,12 @@ def main():
         for seed in range(args.seeds):
             out = f"{tmp}/ours-{seed}.exr"
             start = time.perf_counter()
+            # The box filter, as Mitsuba's: ours defaults to a Gaussian (since 2026-11-25), which
+            # blurs edges across the blocks' borders.
             subprocess.run([BINARY, "render", args.scene, "-o", out, "--size", args.size,
                             "--spp", str(args.orbifold_spp), "--no-adaptive", "--seed", str(seed),
-                            *shlex.split(args.orbifold_args)], check=True, capture_output=True)
+                            "--filter", "box", *shlex.split(args.orbifold_args)],
+                           check=True, capture_output=True)
             timing["orbifold"] += time.perf_counter() - start
             ours.append(np.array(mi.Bitmap(out), dtype=np.float64)[..., :3])
         d = mitsuba_scene(mi, scene, os.path.dirname(os.path.abspath(args.scene)), groups,
