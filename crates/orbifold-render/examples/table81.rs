@@ -412,10 +412,7 @@ fn main() {
                 height: args.size,
                 samples: args.spp.unwrap_or(u32::MAX),
                 seed,
-                time_limit: args
-                    .spp
-                    .is_none()
-                    .then(|| Duration::from_secs_f64(seconds)),
+                time_limit: args.spp.is_none().then(|| Duration::from_secs_f64(seconds)),
                 noise_target: None,
                 adaptive: !args.uniform,
                 denoised: !args.raw_target,
