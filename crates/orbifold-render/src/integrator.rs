@@ -26,9 +26,10 @@ use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use crate::geodesic::Ray;
 use crate::light::{
     AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, connect,
-    reflection_matrix, spread, travel_direction,
+    reflection_matrix, spread, travel_direction, turned,
 };
 use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
+use crate::room::RoomSurface;
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
 use crate::texture::ImageTexture;
 use crate::tracer::{SurfaceId, Tracer};
@@ -413,12 +414,17 @@ impl Look {
 }
 
 /// One choice of the light sampler: a light, an image of the room, and (on the sphere) which
-/// way round.
+/// way round and how many times ([`crate::light::turned`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Entry {
     light: usize,
     image: usize,
-    long_way: bool,
+    /// Half-turns round the sphere past the image: 0 the short way, 1 the long way, 2 the
+    /// short way once more round, … (always 0 off the sphere).
+    turns: u32,
+    /// What the extra times round cost at most: the mirrors' reflectance over one time round,
+    /// to the power of the number of times (1 for the short and the long way).
+    attenuation: f64,
     /// The image of the light's centre (ambient) and its height.
     position: DVec3,
     height: f64,
@@ -442,6 +448,12 @@ const LIGHT_CANDIDATES: usize = MAX_LIGHT_CANDIDATES as usize;
 /// evenly.
 const GOLDEN: f64 = 0.618_033_988_749_894_9;
 const R2: (f64, f64) = (0.754_877_666_246_692_7, 0.569_840_290_998_053_2);
+/// On the sphere, light sampling follows the geodesics to each image that go round the sphere
+/// up to this many times more (fewer where the mirrors take the light out sooner:
+/// [`WRAP_CUTOFF`]). A bounce that reaches a light further round still counts it, unweighted.
+const MAX_WRAPS: u32 = 16;
+/// The times round are kept while the mirrors' reflectance over them is at least this.
+const WRAP_CUTOFF: f64 = 1e-3;
 /// Per-point weights treat nothing as closer than this (intrinsic units).
 const NEAR_CLAMP: f64 = 0.05;
 /// Per-point weights use at least this cosine (a light has a size: part of it can be above the
@@ -894,32 +906,44 @@ impl Integrator {
             .map(|w| space.ambient_distance(self.centre, w.start))
             .fold(height, f64::max);
         let floor = spread(space, size, size);
-        let ways: &[bool] = if space.kappa() > 0.0 {
-            &[false, true]
+        // Every geodesic of the sphere comes back round: a point is lit along the short and the
+        // long way to each image and along both again after each time round, as long as the
+        // mirrors on the way leave something of the light.
+        let once_round = self.reflectance_once_round(height);
+        let wraps = if space.kappa() > 0.0 && once_round > 0.0 {
+            let cut = (WRAP_CUTOFF.ln() / once_round.ln()).ceil();
+            if cut.is_finite() {
+                (cut as u32).min(MAX_WRAPS)
+            } else {
+                MAX_WRAPS
+            }
         } else {
-            &[false]
+            0
+        };
+        let turns = if space.kappa() > 0.0 {
+            2 * (wraps + 1)
+        } else {
+            1
         };
         let mut weights = Vec::new();
         for (l, light) in self.lights.iter().enumerate() {
             for (k, image) in self.images.images.iter().enumerate() {
                 let y = image.isometry * light.position;
                 let d = space.ambient_distance(self.centre, y);
-                for &long_way in ways {
-                    let sigma = if long_way {
-                        std::f64::consts::TAU - d
-                    } else {
-                        d
-                    };
+                for t in 0..turns {
+                    let sigma = turned(d, t).0;
+                    let attenuation = once_round.powi((t / 2) as i32);
                     let j = spread(space, sigma, sigma).max(floor);
-                    let w = luminance(mul(light.power, image.reflectance)) / j;
+                    let w = luminance(mul(light.power, image.reflectance)) * attenuation / j;
                     if w > 0.0 && w.is_finite() {
-                        if k < NEAR_IMAGES && self.near.len() < NEAR_MAX {
+                        if k < NEAR_IMAGES && t < 2 && self.near.len() < NEAR_MAX {
                             self.near.push(self.entries.len());
                         }
                         self.entries.push(Entry {
                             light: l,
                             image: k,
-                            long_way,
+                            turns: t,
+                            attenuation,
                             position: y,
                             height: light.height,
                         });
@@ -933,8 +957,46 @@ impl Integrator {
             let entry = &self.entries[e];
             let image = &self.images.images[entry.image];
             let power = luminance(mul(self.lights[entry.light].power, image.reflectance));
-            (entry.position, entry.height, entry.long_way, power)
+            (entry.position, entry.height, entry.turns == 1, power)
         }));
+    }
+
+    /// The luminance of the mirrors' reflectance over one time round the sphere, on average
+    /// over horizontal great circles from the room's centre at `height` (walls only: the
+    /// objects may let the light through elsewhere); 0 off the sphere.
+    fn reflectance_once_round(&self, height: f64) -> f64 {
+        const DIRECTIONS: usize = 16;
+        let space = self.space();
+        if space.kappa() <= 0.0 {
+            return 0.0;
+        }
+        let room = &self.tracer.room;
+        let h = 0.5 * height;
+        let mut sum = 0.0;
+        for i in 0..DIRECTIONS {
+            let angle = std::f64::consts::TAU * (i as f64 + 0.5) / DIRECTIONS as f64;
+            let u = self.centre_frame.e1 * angle.cos() + self.centre_frame.e2 * angle.sin();
+            let mut ray = Ray::new(space, self.centre, u, h, 0.0);
+            let (mut travelled, mut carried) = (0.0, 1.0);
+            while travelled < std::f64::consts::TAU && carried > 0.0 {
+                let Some(exit) = room.exit(&ray) else {
+                    carried = 0.0;
+                    break;
+                };
+                let RoomSurface::Wall(w) = exit.surface else {
+                    carried = 0.0;
+                    break;
+                };
+                carried *= room
+                    .mirror_at(w, exit.point, exit.height)
+                    .map_or(0.0, |(_, m)| luminance(m.reflectance));
+                travelled += exit.s;
+                let form = room.wall_form_at(w, exit.point);
+                ray = ray.advanced(space, exit.s).reflected(space, form);
+            }
+            sum += carried;
+        }
+        sum / DIRECTIONS as f64
     }
 
     /// The plane.
@@ -1039,11 +1101,11 @@ impl Integrator {
         self.entry_pmf(index, &weights, total, share)
     }
 
-    fn entry_index(&self, light: usize, image: usize, long_way: bool) -> Option<usize> {
-        // Entries are in (light, image, way) order with some left out: binary search.
-        let key = (light, image, long_way);
+    fn entry_index(&self, light: usize, image: usize, turns: u32) -> Option<usize> {
+        // Entries are in (light, image, turns) order with some left out: binary search.
+        let key = (light, image, turns);
         self.entries
-            .binary_search_by(|e| (e.light, e.image, e.long_way).cmp(&key))
+            .binary_search_by(|e| (e.light, e.image, e.turns).cmp(&key))
             .ok()
     }
 
@@ -1452,7 +1514,7 @@ impl Integrator {
         let aimed = match aimed.iter().find(|(i, _)| *i == index) {
             Some((_, aimed)) => aimed,
             None => {
-                let from = (!entry.long_way).then(|| (image.inverse * at.x, at.h));
+                let from = (entry.turns == 0).then(|| (image.inverse * at.x, at.h));
                 aimed.push((index, light.aimed_at(space, from)));
                 &aimed[aimed.len() - 1].1
             }
@@ -1464,7 +1526,7 @@ impl Integrator {
             at.frame,
             (at.x, at.h),
             (target, point.h),
-            entry.long_way,
+            entry.turns,
         )?;
         let wi = travel_direction(space, at.frame, &link.ray, 0.0);
         if !at.sides.agree(at.shading.normal(), wi) {
@@ -1501,7 +1563,7 @@ impl Integrator {
         // own copy (the isometry is linear on ambient vectors, so it maps tangents too).
         let u_end = image.inverse * link.ray.tangent_at(space, link.sigma);
         let (cos_a, sin_a) = (link.ray.cos_elevation, link.ray.sin_elevation);
-        let unblocked = mul(candidate.f, image.reflectance);
+        let unblocked = scale(mul(candidate.f, image.reflectance), entry.attenuation);
         let value = match (point.triangle, &light.emitter) {
             (Some((triangle, w)), Emitter::Area { instance, .. }) => {
                 // The cosine at the light, in ambient terms (no frame needed there).
@@ -1548,7 +1610,7 @@ impl Integrator {
         let light = &self.lights[entry.light];
         let image = &self.images.images[entry.image];
         let (point, link) = (&candidate.point, &candidate.link);
-        let from = (!entry.long_way).then(|| (image.inverse * at.x, at.h));
+        let from = (entry.turns == 0).then(|| (image.inverse * at.x, at.h));
         let start = link.ray.advanced(space, RAY_EPSILON);
         // A point on the side of a sphere light that faces x is reached without meeting the
         // light first: its own mesh (hundreds of triangles) need not be tested.
@@ -1620,14 +1682,18 @@ impl Integrator {
             return 0.0;
         };
         let sigma = march.length * march.ray.cos_elevation.abs();
-        let long_way = space.kappa() > 0.0 && sigma > std::f64::consts::PI;
-        if space.kappa() > 0.0 && sigma > std::f64::consts::TAU {
-            return 0.0;
-        }
-        let Some(index) = self.entry_index(light, image, long_way) else {
+        // The half-turns round the sphere that the path made ([`turned`]).
+        let turns = if space.kappa() > 0.0 {
+            (sigma / std::f64::consts::PI)
+                .floor()
+                .min(f64::from(u32::MAX)) as u32
+        } else {
+            0
+        };
+        let Some(index) = self.entry_index(light, image, turns) else {
             return 0.0;
         };
-        let from = (!long_way).then(|| (self.images.images[image].inverse * x, h));
+        let from = (turns == 0).then(|| (self.images.images[image].inverse * x, h));
         let pdf_area = self.lights[light].pdf_area(space, triangle, w, from);
         let j = spread(space, march.length, sigma);
         self.pmf_at(x, h, normal, index) * pdf_area * j / cos_out.abs().max(1e-12)

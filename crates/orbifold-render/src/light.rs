@@ -136,24 +136,54 @@ pub struct Connection {
     pub spread: f64,
 }
 
-/// The geodesic from (x, hx) to (y, hy); with `long_way` (the sphere only) the one that goes
-/// round the other side. `frame` is a frame at x (for a vertical connection).
+/// The horizontal length of the geodesic from one point of the sphere to another at distance
+/// `d` ≤ π that makes `turns` half-turns past it, and whether it leaves along the way back
+/// (−u for the direction u of the short way). Half-turn 0 is the short way (σ = d), 1 the long
+/// way round (2π − d), 2 the short way once more round the sphere (2π + d), and so on: σ lies
+/// in [πt, π(t + 1)], so `turns` = ⌊σ/π⌋ of a geodesic's own horizontal length.
+///
+/// ```
+/// use orbifold_render::light::turned;
+/// use std::f64::consts::PI;
+/// assert_eq!(turned(1.0, 0), (1.0, false));
+/// assert_eq!(turned(1.0, 1), (2.0 * PI - 1.0, true));
+/// assert_eq!(turned(1.0, 2), (2.0 * PI + 1.0, false));
+/// assert_eq!(turned(1.0, 3), (4.0 * PI - 1.0, true));
+/// ```
+pub fn turned(d: f64, turns: u32) -> (f64, bool) {
+    let t = f64::from(turns);
+    if turns % 2 == 0 {
+        (d + PI * t, false)
+    } else {
+        (PI * (t + 1.0) - d, true)
+    }
+}
+
+/// The geodesic from (x, hx) to (y, hy) that makes `turns` half-turns round the sphere
+/// ([`turned`]; 0, the shortest, in every geometry — the others exist on the sphere only,
+/// where every geodesic comes back round). `frame` is a frame at x (for a vertical
+/// connection).
 pub fn connect(
     space: Space,
     frame: &TangentFrame,
     (x, hx): (DVec3, f64),
     (y, hy): (DVec3, f64),
-    long_way: bool,
+    turns: u32,
 ) -> Option<Connection> {
+    if turns > 0 && space.kappa() <= 0.0 {
+        return None;
+    }
     let d = space.ambient_distance(x, y);
     let (u, sigma) = if d < 1e-12 {
-        if long_way {
+        // Every way round leads back to x (a focus): only the straight connection is one.
+        if turns > 0 {
             return None;
         }
         (frame.e1, 0.0)
     } else {
         let u = space.log(x, y) / d;
-        if long_way { (-u, TAU - d) } else { (u, d) }
+        let (sigma, back) = turned(d, turns);
+        (if back { -u } else { u }, sigma)
     };
     let dh = hy - hx;
     let length = (sigma * sigma + dh * dh).sqrt();

@@ -45,7 +45,7 @@ proptest! {
         let (triangle, _) = point.triangle.unwrap();
         if light.reaches_unobstructed(space, triangle, from) {
             let frame = TangentFrame::at(space, x);
-            let link = connect(space, &frame, (x, h), (point.x, point.h), false).unwrap();
+            let link = connect(space, &frame, (x, h), (point.x, point.h), 0).unwrap();
             let hit = instance.intersect(space, &link.ray, 0.0, f64::INFINITY).unwrap();
             prop_assert!(
                 hit.s > link.length * (1.0 - 1e-7) - 1e-9,

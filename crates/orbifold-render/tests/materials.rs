@@ -207,7 +207,7 @@ fn built_in_objects_have_outward_normals() {
                 let x = space.to_ambient(from);
                 let frame = TangentFrame::at(space, x);
                 let aim = 0.2 + 0.15 * f64::from(k % 3);
-                let link = connect(space, &frame, (x, 0.35), (target, aim), false).unwrap();
+                let link = connect(space, &frame, (x, 0.35), (target, aim), 0).unwrap();
                 let Some(hit) = tracer.nearest(&link.ray) else {
                     continue;
                 };
@@ -343,7 +343,7 @@ fn sphere_lights_sample_every_triangle_that_faces_the_point() {
                     total += pdf * 0.5 * jacobian;
                 }
                 let frame = TangentFrame::at(space, p);
-                let Some(link) = connect(space, &frame, (p, hp), (x, h), false) else {
+                let Some(link) = connect(space, &frame, (p, hp), (x, h), 0) else {
                     continue;
                 };
                 let towards = travel_direction(space, &frame, &link.ray, 0.0);
