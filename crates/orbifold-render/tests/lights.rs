@@ -74,3 +74,45 @@ fn most_sampled_points_of_a_sphere_light_are_known_to_be_unobstructed() {
         assert!(!lights[0].reaches_unobstructed(space, 0, None));
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+    /// Light sampling from a point picks among the sphere light's triangles that can face it;
+    /// every point of the light that a geodesic from there meets first must be among them, or
+    /// the bounces that reach it count it unweighted, as light sampling never could. On the
+    /// sphere this holds up to the antipode of the light, where geodesics from the point
+    /// arrive from every side.
+    #[test]
+    fn every_point_of_a_sphere_light_met_first_can_be_sampled(
+        g in 0usize..3,
+        distance in 0.2f64..1.0,
+        bearing in 0.0f64..std::f64::consts::TAU,
+        h in 0.0f64..1.2,
+        u in 0.0f64..1.0,
+        v in (0.0f64..1.0, 0.0f64..1.0),
+    ) {
+        let (space, lights, _) = lights(["*235", "*2222", "*2223"][g]);
+        let light = &lights[0];
+        let Emitter::Area { instance, .. } = &light.emitter else { panic!("a sphere light") };
+        // Up to 3 from the light (just short of the sphere's antipode, π).
+        let reach = if space.kappa() > 0.0 { std::f64::consts::PI - 0.01 } else { 3.0 };
+        let frame = TangentFrame::at(space, light.position);
+        let direction = frame.e1 * bearing.cos() + frame.e2 * bearing.sin();
+        let x = space.exp(light.position, direction * (distance * reach));
+        prop_assume!((distance * reach).hypot(h - 0.6) > 0.15);
+        let point = light.sample_point(space, u, v, None).unwrap();
+        let (triangle, w) = point.triangle.unwrap();
+        let from_frame = TangentFrame::at(space, x);
+        let Some(link) = connect(space, &from_frame, (x, h), (point.x, point.h), 0) else {
+            return Ok(());
+        };
+        let hit = instance.intersect(space, &link.ray, 0.0, f64::INFINITY).unwrap();
+        if hit.s > link.length * (1.0 - 1e-7) - 1e-9 && hit.triangle == triangle {
+            prop_assert!(
+                light.pdf_area(space, triangle, w, Some((x, h))) > 0.0,
+                "triangle {triangle} met first from {:.3} away is never sampled",
+                distance * reach
+            );
+        }
+    }
+}
