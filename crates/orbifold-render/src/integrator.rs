@@ -2234,4 +2234,63 @@ mod tests {
             "{b}"
         );
     }
+
+    #[test]
+    fn a_bounce_that_reaches_a_light_round_the_sphere_could_have_been_a_light_sample() {
+        // In a spherical room of mirrors, the geodesics from a point of the floor to the
+        // sphere light that go round the sphere once and more reach it through the mirrors.
+        // Light sampling must draw them too (a positive density at the point where such a
+        // bounce meets the light), or MIS counts those bounces unweighted: the noisiest light
+        // of the spherical rooms of the seed's Table 8.1.
+        for signature in ["*", "*22", "*222"] {
+            let mut scene = orbifold_scene::Scene::default();
+            scene.orbifold.signature = signature.into();
+            scene.objects.clear();
+            scene.room.reflectance = [0.9; 3];
+            scene.lights[0].kind = orbifold_scene::LightKind::Sphere;
+            scene.lights[0].at = [
+                scene.layout().unwrap().centre.re,
+                scene.layout().unwrap().centre.im,
+            ];
+            let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+            let space = integrator.space();
+            let light = &integrator.lights[0];
+            let offset = integrator.centre_frame.e1 * 0.2 + integrator.centre_frame.e2 * 0.1;
+            let x = space.exp(integrator.centre, offset);
+            let h = 1e-6;
+            let frame = TangentFrame::at(space, x);
+            let up = Normal::new(&frame, DVec3::Z);
+            let mut reached = 0;
+            for turns in 0..8 {
+                let link =
+                    connect(space, &frame, (x, h), (light.position, light.height), turns).unwrap();
+                let start = link.ray.advanced(space, RAY_EPSILON);
+                let march = integrator.march(&start, f64::INFINITY, None, None, None, false);
+                let MarchEnd::Hit(near) = march.end else {
+                    continue;
+                };
+                let Struck::Light(l, triangle, w) = near.struck else {
+                    continue;
+                };
+                let sigma = march.length * march.ray.cos_elevation;
+                assert_eq!(
+                    (sigma / std::f64::consts::PI).floor() as u32,
+                    turns,
+                    "{signature}"
+                );
+                let light_frame = TangentFrame::at(space, near.point);
+                let n = integrator
+                    .light_normal(l, triangle, w, &light_frame)
+                    .unwrap();
+                let travel = travel_direction(space, &light_frame, &march.ray, march.rest);
+                let pdf = integrator.light_pdf((x, h, up), l, triangle, w, &march, -travel.dot(n));
+                assert!(pdf > 0.0, "{signature}: {turns} half-turns, density {pdf}");
+                reached += 1;
+            }
+            assert!(
+                reached >= 6,
+                "{signature}: the light reached {reached} ways of 8"
+            );
+        }
+    }
 }

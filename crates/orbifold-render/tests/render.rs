@@ -385,6 +385,60 @@ fn resampled_light_samples_lower_the_noise() {
     }
 }
 
+/// A spherical room whose walls are all mirrors of reflectance 0.9 and whose floor and ceiling
+/// are grey, with no objects: light goes round the sphere again and again.
+fn spherical_mirror_room(signature: &str, light: LightKind) -> Scene {
+    let mut scene = scene(signature, light);
+    scene.walls.clear();
+    scene.room.mirrors = orbifold_scene::MirrorDefault::All;
+    scene.room.reflectance = [0.9; 3];
+    scene.lights[0].radius = 0.05;
+    scene
+}
+
+#[test]
+fn light_sampling_round_the_sphere_agrees_with_brute_force() {
+    // Light sampling follows the geodesics to each light image that go round the sphere once
+    // and more (half-turns), and bounces that reach a light that way are weighed against it by
+    // MIS: the two estimates must still agree where that light matters most.
+    for signature in ["*", "*22", "*222"] {
+        let scene = spherical_mirror_room(signature, LightKind::Sphere);
+        assert_nee_agrees_with_brute_force(&scene, signature);
+    }
+}
+
+#[test]
+fn a_point_light_lights_a_spherical_mirror_room_as_a_tiny_sphere_light_does() {
+    // Only light sampling finds a point light. Round the sphere it must follow the geodesics
+    // that go round again too, as the bounces that reach a sphere light do: in a spherical room
+    // of mirrors that light is a large share of what lights the floor. As in
+    // `a_point_light_lights_the_room_as_a_tiny_sphere_light_of_the_same_power`, the camera
+    // looks straight down at the floor beside the light.
+    for signature in ["*", "*22"] {
+        let mut point = spherical_mirror_room(signature, LightKind::Point);
+        point.camera.pitch = -89.0;
+        point.camera.fov = 60.0;
+        let mut sphere = point.clone();
+        sphere.lights[0].kind = LightKind::Sphere;
+        sphere.lights[0].radius = 0.01;
+        let render = |scene: &Scene, seed| {
+            let settings = Settings {
+                max_depth: 2,
+                ..in_full(true)
+            };
+            sized_image(scene, settings, (16, 12), 256, seed)
+        };
+        let (a, ea) = mean_and_error(&render(&point, 5));
+        let (b, eb) = mean_and_error(&render(&sphere, 6));
+        assert!(a > 0.0 && b > 0.0, "{signature}: {a} {b}");
+        let tolerance = 4.0 * (ea * ea + eb * eb).sqrt() + 0.02 * a;
+        assert!(
+            (a - b).abs() < tolerance,
+            "{signature}: point light {a} ± {ea}, sphere light {b} ± {eb}"
+        );
+    }
+}
+
 #[test]
 fn point_lights_light_the_room_through_mirrors() {
     // With the direct view of a point light blocked by nothing, mirrors add light: the same
