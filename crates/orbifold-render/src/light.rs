@@ -152,7 +152,7 @@ pub struct Connection {
 /// ```
 pub fn turned(d: f64, turns: u32) -> (f64, bool) {
     let t = f64::from(turns);
-    if turns % 2 == 0 {
+    if turns.is_multiple_of(2) {
         (d + PI * t, false)
     } else {
         (PI * (t + 1.0) - d, true)
