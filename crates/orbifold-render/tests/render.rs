@@ -409,9 +409,11 @@ fn light_sampling_round_the_sphere_agrees_with_brute_force() {
 
 #[test]
 fn a_point_light_lights_a_spherical_mirror_room_as_a_tiny_sphere_light_does() {
-    // Only light sampling finds a point light. Round the sphere it must follow the geodesics
-    // that go round again too, as the bounces that reach a sphere light do: in a spherical room
-    // of mirrors that light is a large share of what lights the floor. As in
+    // Only light sampling finds a point light, so the geodesics that go round the sphere again
+    // are its only way there; a sphere light's come partly from bounces weighed against them.
+    // Both must light a spherical room of mirrors alike. (On the floor seen from above, light
+    // that has gone round again arrives grazing, a few per cent of the whole at most: this
+    // checks that following it adds no light that is not there, not that it is needed.) As in
     // `a_point_light_lights_the_room_as_a_tiny_sphere_light_of_the_same_power`, the camera
     // looks straight down at the floor beside the light.
     for signature in ["*", "*22"] {
