@@ -978,11 +978,15 @@ impl Integrator {
             let u = self.centre_frame.e1 * angle.cos() + self.centre_frame.e2 * angle.sin();
             let mut ray = Ray::new(space, self.centre, u, h, 0.0);
             let (mut travelled, mut carried) = (0.0, 1.0);
-            while travelled < std::f64::consts::TAU && carried > 0.0 {
+            while carried > 0.0 {
                 let Some(exit) = room.exit(&ray) else {
                     carried = 0.0;
                     break;
                 };
+                // The crossings of one time round only.
+                if travelled + exit.s >= std::f64::consts::TAU {
+                    break;
+                }
                 let RoomSurface::Wall(w) = exit.surface else {
                     carried = 0.0;
                     break;
@@ -2292,5 +2296,28 @@ mod tests {
                 "{signature}: the light reached {reached} ways of 8"
             );
         }
+    }
+
+    #[test]
+    fn a_time_round_the_sphere_crosses_every_mirror_line_twice() {
+        // A great circle meets each great circle of the tiling's mirror lines twice: once round
+        // a room of mirrors of reflectance 0.9 with 1, 2 and 3 such lines carries 0.9² , 0.9⁴
+        // and 0.9⁶ (whatever the direction, as long as it misses the corners).
+        for (signature, lines) in [("*", 1), ("*22", 2), ("*222", 3)] {
+            let mut scene = orbifold_scene::Scene::default();
+            scene.orbifold.signature = signature.into();
+            scene.room.reflectance = [0.9; 3];
+            let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+            let once = integrator.reflectance_once_round(scene.room.height);
+            let expected = 0.9f64.powi(2 * lines);
+            assert!(
+                (once - expected).abs() < 1e-9,
+                "{signature}: {once} against {expected}"
+            );
+        }
+        let mut flat = orbifold_scene::Scene::default();
+        flat.orbifold.signature = "*2222".into();
+        let integrator = Integrator::from_scene(&flat, None, Settings::default()).unwrap();
+        assert_eq!(integrator.reflectance_once_round(flat.room.height), 0.0);
     }
 }
