@@ -933,7 +933,11 @@ impl Integrator {
                 for t in 0..turns {
                     let sigma = turned(d, t).0;
                     let attenuation = once_round.powi((t / 2) as i32);
-                    let j = spread(space, sigma, sigma).max(floor);
+                    // J at least the room's size's, and for the times round at least what
+                    // it is that far round from a point as far from the image as the room is
+                    // wide: the image's distance from the centre can put it at a focus (J → 0)
+                    // that hardly any lit point is near.
+                    let j = spread(space, sigma, sigma).max(floor * (sigma / size).max(1.0));
                     let w = luminance(mul(light.power, image.reflectance)) * attenuation / j;
                     if w > 0.0 && w.is_finite() {
                         if k < NEAR_IMAGES && t < 2 && self.near.len() < NEAR_MAX {
