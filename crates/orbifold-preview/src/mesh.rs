@@ -136,8 +136,8 @@ impl MeshData {
                     part,
                 }),
         );
-        self.indices
-            .extend(surface.triangles.iter().flatten().map(|&i| i + offset));
+        let ordered = for_vertex_cache(&surface.triangles, surface.points.len());
+        self.indices.extend(ordered.into_iter().map(|i| i + offset));
     }
 }
 
@@ -167,7 +167,6 @@ pub fn objects(
     let mut out = ObjectMeshes::default();
     for (i, object) in scene.objects.iter().enumerate() {
         let (embedded, triangles, placement) = scene.embedded_object(layout, i, base)?;
-        let triangles = for_vertex_cache(&triangles, embedded.points.len());
         let surface = Surface {
             points: embedded.points,
             heights: embedded.heights,
@@ -203,13 +202,9 @@ pub fn objects(
 /// vertex rather than once per corner: scanned meshes come in an order that shares few vertices
 /// between neighbouring triangles. On a GPU whose graphics units are few this is most of the
 /// time of a frame with millions of triangles (docs/benchmarks.md).
-fn for_vertex_cache(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<[u32; 3]> {
+fn for_vertex_cache(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<u32> {
     let flat: Vec<u32> = triangles.iter().flatten().copied().collect();
-    let ordered = meshopt::optimize_vertex_cache(&flat, vertex_count);
-    ordered
-        .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]])
-        .collect()
+    meshopt::optimize_vertex_cache(&flat, vertex_count)
 }
 
 /// Levels of detail of the objects: every triangle, then about 1/4, 1/16 and 1/64 of them.
