@@ -817,15 +817,20 @@ fn instances(
             far = far.max(t.length() + reach);
             let level = if settings.lod {
                 // The log map scales sizes across the line of sight by d/S_κ(d) at horizontal
-                // distance d (magnifying near the sphere's antipode, shrinking in H²).
+                // distance d (magnifying near the sphere's antipode, shrinking in H²), and
+                // heights not at all: an image far round the sphere is wide and flat.
                 let d = t.x.hypot(t.y);
                 let stretch = match view.projection() {
                     Projection::Curved if d > 1e-9 => d / space.sin(d).abs().max(1e-9),
                     _ => 1.0,
                 };
-                let size = 2.0 * state.object_radius * stretch;
-                let pixels = size * focal / (t.length() - reach).max(1e-3);
-                detail_level(&state.object_levels, pixels)
+                let width = 2.0 * state.object_radius;
+                let height = width.max(state.object_top);
+                let pixels = focal / (t.length() - reach).max(1e-3);
+                detail_level(
+                    &state.object_levels,
+                    (width * stretch * pixels) * (height * pixels),
+                )
             } else {
                 0
             };
@@ -859,12 +864,12 @@ fn instances(
 }
 
 /// The coarsest level of detail that still gives an object about one triangle per pixel of the
-/// square it covers (`pixels` wide): the first level with at most pixels² triangles.
-fn detail_level(levels: &[std::ops::Range<u32>], pixels: f64) -> usize {
-    let budget = pixels * pixels;
+/// rectangle it covers on screen (`area` pixels, its width times its height): the first level
+/// with at most that many triangles.
+fn detail_level(levels: &[std::ops::Range<u32>], area: f64) -> usize {
     levels
         .iter()
-        .position(|l| (l.len() / 3) as f64 <= budget)
+        .position(|l| (l.len() / 3) as f64 <= area)
         .unwrap_or(levels.len().saturating_sub(1))
 }
 
