@@ -75,6 +75,7 @@ Examples:
   orbifold preview '*2352' --straight -o flat.png   # as if space were flat, to compare
   orbifold preview '*2223' --attenuation translations -o translations.png
   orbifold preview scene.toml --yaw 30 --pitch -10 --json
+  orbifold preview '*2352' --depth 6 --size 1920x1080 --time-frames 60   # frame time on this GPU
 
 Every copy of the room under the reflection group up to --depth reflections (the whole group on
 the sphere) is drawn as a GPU instance; each vertex is mapped by the logarithm map of S²×R, E²×R
@@ -84,7 +85,8 @@ sphere both images of each point are drawn: the short and the long way round. Wi
 preview runs on Mesa's software Vulkan driver (Debian: mesa-vulkan-drivers libvulkan1).
 
 --json prints {\"output\", \"width\", \"height\", \"adapter\", \"copies\", \"instances\",
-\"triangles_per_copy\", \"triangles\", \"seconds\"}.";
+\"triangles_per_copy\", \"triangles\", \"seconds\"}, and with --time-frames also
+\"frames_timed\", \"frame_ms\" (the median) and \"frames_per_second\".";
 
 #[derive(Debug, Args)]
 pub struct PreviewArgs {
@@ -120,6 +122,11 @@ pub struct PreviewArgs {
     /// Tilt the camera to this elevation (degrees).
     #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
     pub pitch: Option<f64>,
+    /// After the picture, time N more frames with the camera turning a degree a frame (the
+    /// copies recomputed every frame, as when walking in the studio) and report the median
+    /// time from submitting a frame until the GPU has finished it: a benchmark of this machine.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub time_frames: Option<u32>,
     /// Print a JSON summary instead of text.
     #[arg(long)]
     pub json: bool,

@@ -88,6 +88,29 @@ fn copies_follow_the_depth_and_straight_rays_change_the_picture() {
     assert!(differing > 500, "{differing} pixels differ");
 }
 
+#[test]
+fn time_frames_reports_the_median_frame_time() {
+    let tmp = temp();
+    let png = tmp.path().join("timed.png");
+    let args = ["*2222", "--size", "64x48", "--time-frames", "3"];
+    let Some(summary) = preview(&[&args[..], &["-o", png.to_str().unwrap()]].concat()) else {
+        return;
+    };
+    assert_eq!(summary["frames_timed"], 3);
+    let ms = summary["frame_ms"].as_f64().unwrap();
+    let fps = summary["frames_per_second"].as_f64().unwrap();
+    assert!(ms > 0.0 && ms.is_finite(), "{ms} ms");
+    assert!(
+        (ms * fps - 1e3).abs() < 1e-6 * 1e3,
+        "{ms} ms, {fps} frames/s"
+    );
+    // Without the flag the summary has no timings.
+    let Some(plain) = preview(&["*2222", "--size", "64x48", "-o", png.to_str().unwrap()]) else {
+        return;
+    };
+    assert!(plain.get("frame_ms").is_none());
+}
+
 fn fails_with_2(args: &[&str], output: &Path, message: &str) {
     let out = orbifold().arg("preview").args(args).output().unwrap();
     assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -114,5 +137,10 @@ fn bad_input_is_refused_before_anything_is_written() {
     );
     fails_with_2(&["*333", "--pitch", "120", "-o", out], &png, "--pitch 120");
     fails_with_2(&["*333", "--size", "0x10", "-o", out], &png, "size");
+    fails_with_2(
+        &["*333", "--time-frames", "0", "-o", out],
+        &png,
+        "--time-frames",
+    );
     fails_with_2(&["missing.toml", "-o", out], &png, "missing.toml");
 }

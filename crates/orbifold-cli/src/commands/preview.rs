@@ -21,6 +21,36 @@ struct Summary {
     triangles_per_copy: usize,
     triangles: usize,
     seconds: f64,
+    /// With `--time-frames`: the frames timed and their median time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frames_timed: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame_ms: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frames_per_second: Option<f64>,
+}
+
+/// The median time of `frames` frames, from submitting each until the GPU has finished it,
+/// with the camera turning a degree a frame.
+fn time_frames(
+    preview: &mut Preview,
+    camera: &orbifold_scene::Camera,
+    frames: u32,
+    (width, height): (u32, u32),
+) -> Result<f64, CliError> {
+    let runtime = |e: PreviewError| CliError::Runtime(e.to_string());
+    let mut times = Vec::with_capacity(frames as usize);
+    for k in 0..frames {
+        let mut turned = camera.clone();
+        turned.yaw += f64::from(k + 1);
+        preview.set_camera(&turned);
+        let start = Instant::now();
+        preview.draw(width, height).map_err(runtime)?;
+        preview.finish().map_err(runtime)?;
+        times.push(start.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
 }
 
 pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
@@ -77,7 +107,18 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
     frame
         .save_png(&args.output)
         .map_err(|e| CliError::Io(std::io::Error::other(e.to_string())))?;
+    let seconds = start.elapsed().as_secs_f64();
+    // The picture's own counts, before the timed frames turn the camera.
     let stats = preview.stats();
+    let median = match args.time_frames {
+        Some(frames) => Some(time_frames(
+            &mut preview,
+            &scene.camera,
+            frames,
+            (width, height),
+        )?),
+        None => None,
+    };
     let summary = Summary {
         output: args.output.display().to_string(),
         width,
@@ -87,10 +128,13 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
         instances: stats.instances,
         triangles_per_copy: stats.triangles_per_copy,
         triangles: stats.triangles,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
+        frames_timed: args.time_frames,
+        frame_ms: median.map(|m| m * 1e3),
+        frames_per_second: median.map(|m| 1.0 / m),
     };
     output::summary(args.json, &summary, || {
-        format!(
+        let mut text = format!(
             "wrote {} ({}x{}: {} copies, {} drawn, {} triangles, on {}, {:.2} s)",
             summary.output,
             width,
@@ -100,6 +144,14 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
             summary.triangles,
             summary.adapter,
             summary.seconds
-        )
+        );
+        if let (Some(n), Some(ms), Some(fps)) = (
+            summary.frames_timed,
+            summary.frame_ms,
+            summary.frames_per_second,
+        ) {
+            text += &format!("\n{ms:.2} ms a frame, {fps:.1} frames/s (median of {n} frames)");
+        }
+        text
     })
 }
