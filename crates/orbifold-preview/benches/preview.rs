@@ -55,6 +55,24 @@ fn frames(c: &mut Criterion) {
         });
     }
     group.finish();
+    read_back(c, &mut preview);
+}
+
+/// A frame read back to the CPU, as the studio shows it: the colours alone against the colours
+/// and the surface ids.
+fn read_back(c: &mut Criterion, preview: &mut Preview) {
+    let mut group = c.benchmark_group("preview read back 640x480");
+    group.sample_size(10);
+    preview
+        .load(&scene("*22222", 4), None)
+        .expect("the scene loads");
+    group.bench_function("*22222 depth 4, colours", |b| {
+        b.iter(|| preview.render_colors(640, 480).expect("a frame"))
+    });
+    group.bench_function("*22222 depth 4, colours and ids", |b| {
+        b.iter(|| preview.render(640, 480).expect("a frame"))
+    });
+    group.finish();
 }
 
 criterion_group!(benches, frames);

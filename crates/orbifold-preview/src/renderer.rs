@@ -571,6 +571,24 @@ impl Preview {
             .map_err(|e| PreviewError::Gpu(e.to_string()))
     }
 
+    /// Draws a frame and reads back its colours only (RGBA, 8 bits a channel, rows top to
+    /// bottom): what a window showing the preview needs each frame. It skips the surface-id
+    /// pass of [`Preview::render`], which draws every triangle a second time.
+    ///
+    /// ```no_run
+    /// # use orbifold_preview::{Gpu, Preview};
+    /// let mut preview = Preview::new(Gpu::headless()?);
+    /// preview.load(&orbifold_scene::Scene::default(), None)?;
+    /// let rgba = preview.render_colors(320, 240)?;
+    /// assert_eq!(rgba.len(), 320 * 240 * 4);
+    /// # Ok::<(), orbifold_preview::PreviewError>(())
+    /// ```
+    pub fn render_colors(&mut self, width: u32, height: u32) -> Result<Vec<u8>, PreviewError> {
+        self.draw(width, height)?;
+        let target = self.target.as_ref().expect("drawn above");
+        read_texture(&self.gpu, &target.color, width, height)
+    }
+
     /// Draws a frame and reads it back: colours and surface ids.
     pub fn render(&mut self, width: u32, height: u32) -> Result<Frame, PreviewError> {
         self.draw(width, height)?;

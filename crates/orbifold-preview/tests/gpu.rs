@@ -212,6 +212,24 @@ fn agreement(a: &orbifold_preview::Frame, b: &orbifold_preview::Frame) -> f64 {
     same as f64 / a.ids.len() as f64
 }
 
+/// The colours-only frame (what the studio reads back) is the colour picture of the full frame.
+#[test]
+fn colours_alone_are_the_pictures_colours() {
+    let Some(gpu) = gpu() else { return };
+    let mut preview = Preview::new(gpu);
+    for sig in SIGNATURES {
+        preview.load(&scene(sig, 2), None).unwrap();
+        let colours = preview.render_colors(120, 90).unwrap();
+        let frame = preview.render(120, 90).unwrap();
+        assert_eq!(colours.len(), 120 * 90 * 4, "{sig}");
+        assert!(colours == frame.rgba, "{sig}: the colours differ");
+    }
+    assert!(matches!(
+        preview.render_colors(0, 10),
+        Err(PreviewError::Size(0, 10))
+    ));
+}
+
 #[test]
 fn cheap_updates_draw_what_a_fresh_load_draws() {
     let Some(gpu) = gpu() else { return };

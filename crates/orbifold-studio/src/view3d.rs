@@ -214,7 +214,7 @@ impl View3d {
                 return;
             }
         };
-        let result = (|| -> Result<orbifold_preview::Frame, orbifold_preview::PreviewError> {
+        let result = (|| -> Result<Vec<u8>, orbifold_preview::PreviewError> {
             if self.loaded.as_ref().is_none_or(|(r, _)| *r != revision) {
                 let before = self.loaded.take().map(|(_, s)| s);
                 update(preview, before.as_ref(), scene, base)?;
@@ -230,14 +230,12 @@ impl View3d {
                 Projection::Curved
             };
             preview.set_settings(settings)?;
-            preview.render(size[0] as u32, size[1] as u32)
+            // Colours only: the surface ids would draw every triangle a second time.
+            preview.render_colors(size[0] as u32, size[1] as u32)
         })();
         match result {
-            Ok(frame) => {
-                let image = egui::ColorImage::from_rgba_unmultiplied(
-                    [frame.width as usize, frame.height as usize],
-                    &frame.rgba,
-                );
+            Ok(rgba) => {
+                let image = egui::ColorImage::from_rgba_unmultiplied(size, &rgba);
                 match &mut self.texture {
                     Some(t) => t.set(image, egui::TextureOptions::LINEAR),
                     None => {
