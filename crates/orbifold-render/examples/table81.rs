@@ -40,7 +40,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use orbifold_render::camera::Camera;
-use orbifold_render::denoise::{DenoiseOptions, denoise};
+use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
 use orbifold_render::film::{Film, tone_map};
 use orbifold_render::filter::PixelFilter;
 use orbifold_render::geodesic::Ray;
@@ -245,6 +245,63 @@ fn write_estimated_errors(film: &Film, exposure: f64, path: &std::path::Path) {
         image::ImageBuffer::<image::Luma<u16>, _>::from_raw(film.width(), film.height(), grey)
             .expect("one value a pixel");
     buffer.save(path).expect("the error map is written");
+}
+
+/// Where the noisiest pixels' noise comes from: for the pixels in the top 1 % of the two
+/// denoised images' difference, and for all pixels, the mean squared standard error of each part
+/// of the first image's luminance (light seen directly, first light sample, the rest), their
+/// paths' mean coherence and samples, and the denoised difference's RMS.
+fn noise_parts(da: &Film, db: &Film, film: &Film, guides: &Guides, exposure: f64) -> String {
+    let (w, h) = (film.width(), film.height());
+    let pixels: Vec<(u32, u32)> = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).collect();
+    let difference: Vec<f64> = pixels
+        .iter()
+        .map(|&(x, y)| {
+            let (p, q) = (
+                tone_map(da.pixel(x, y), exposure),
+                tone_map(db.pixel(x, y), exposure),
+            );
+            ((0..3)
+                .map(|c| (f64::from(p[c]) - f64::from(q[c])).powi(2))
+                .sum::<f64>()
+                / 3.0)
+                .sqrt()
+        })
+        .collect();
+    let mut sorted = difference.clone();
+    sorted.sort_by(f64::total_cmp);
+    let threshold = sorted[(sorted.len() - 1) * 99 / 100];
+    let summary = |keep: &dyn Fn(usize) -> bool| {
+        let (mut n, mut parts, mut coherence, mut samples, mut d2) = (0.0, [0.0; 3], 0.0, 0.0, 0.0);
+        for (i, &(x, y)) in pixels.iter().enumerate().filter(|&(i, _)| keep(i)) {
+            let (errors, c) = guides.part_errors(x, y);
+            for k in 0..3 {
+                parts[k] += if errors[k].is_finite() {
+                    errors[k] * errors[k]
+                } else {
+                    0.0
+                };
+            }
+            coherence += c;
+            samples += film.samples(x, y) as f64;
+            d2 += difference[i] * difference[i];
+            n += 1.0;
+        }
+        format!(
+            "squared standard error seen directly / light sample / rest {:.2e} / {:.2e} / {:.2e}, coherence {:.2}, samples {:.0}, denoised difference RMS {:.1}",
+            parts[0] / n,
+            parts[1] / n,
+            parts[2] / n,
+            coherence / n,
+            samples / n,
+            (d2 / n).sqrt() / std::f64::consts::SQRT_2
+        )
+    };
+    format!(
+        "|   top 1 % of the denoised difference: {} |\n|   all pixels: {} |",
+        summary(&|i| difference[i] >= threshold),
+        summary(&|_| true)
+    )
 }
 
 /// One seed's image at a checkpoint, raw and denoised, with the exposure of the raw one.
@@ -496,6 +553,9 @@ fn main() {
                 q(1.0),
                 raw.2
             );
+        }
+        if args.save.is_some() {
+            println!("{}", noise_parts(&da, &db, &a.film, &a.guides, exposure));
         }
         if let Some(seconds) = args.reference {
             // The reference traces every path in full: no radiance cache, whose bias shows.

@@ -6,7 +6,8 @@
 //! The image is divided by the albedo first, so that the filter smooths lighting and not
 //! texture (the checkerboard floor, marble veins), and multiplied back at the end. Five passes
 //! of a 5×5 B3-spline kernel with holes (steps 1, 2, 4, 8, 16: a 61×61 footprint) weigh each
-//! neighbour by how alike the two pixels' normals, depths and albedos are, and by how far its
+//! neighbour by how alike the two pixels' normals and depths are (and albedos, if asked:
+//! [`DenoiseOptions::sigma_albedo`]), and by how far its
 //! lighting is from the pixel's in units of the standard error around it (the variance blurred
 //! over 3×3 pixels) — so that edges, mirror-image boundaries and well-converged detail survive
 //! while noise is averaged away. A pixel whose paths disagree on what they saw (its mean
@@ -319,6 +320,32 @@ impl Guides {
         p.mean(p.direct)
     }
 
+    /// The standard errors of pixel (x, y)'s mean luminance in its three parts — the light seen
+    /// directly, the first surface's light sample, the rest — and how much its paths agree on
+    /// what they saw first (1: one surface; near 0: many things smaller than the pixel). What
+    /// the denoiser weighs each part by; for finding where a picture's noise comes from.
+    ///
+    /// ```
+    /// use orbifold_render::denoise::Guides;
+    /// use orbifold_render::integrator::FirstHit;
+    ///
+    /// let mut guides = Guides::new(1, 1);
+    /// let first = FirstHit { albedo: [0.5; 3], normal: glam::DVec3::Z, depth: 1.0, ..FirstHit::default() };
+    /// for radiance in [0.2, 0.4, 0.2, 0.4] {
+    ///     guides.add(0, 0, &first, [radiance; 3]);
+    /// }
+    /// let ([emitted, direct, rest], coherence) = guides.part_errors(0, 0);
+    /// assert_eq!((emitted, direct), (0.0, 0.0));
+    /// // Four values 0.1 from their mean: s² = 4 · 0.01 / 3, and the standard error √(s²/4).
+    /// assert!((rest - (0.01f64 / 3.0).sqrt()).abs() < 1e-12 && coherence == 1.0);
+    /// ```
+    pub fn part_errors(&self, x: u32, y: u32) -> ([f64; 3], f64) {
+        let p = &self.pixels[self.index(x, y)];
+        let errors =
+            [&p.emitted_stats, &p.direct_stats, &p.rest_stats].map(|stats| p.standard_error(stats));
+        (errors, p.coherence())
+    }
+
     fn mean_albedo(&self, i: usize) -> Rgb {
         let p = &self.pixels[i];
         p.mean(p.albedo)
@@ -388,7 +415,12 @@ pub struct DenoiseOptions {
     pub sigma_normal: f64,
     /// Relative depth difference that halves the weight about e-fold.
     pub sigma_depth: f64,
-    /// Albedo difference scale.
+    /// Albedo difference scale; infinite (the default) for no albedo guide. The lighting is
+    /// filtered divided by the albedo, so a texture's edge is no lighting edge; and where a
+    /// checkerboard's checks shrink towards a pixel, each pixel's footprint-averaged albedo
+    /// differs from its neighbours' (a moiré), so an albedo guide stopped the filter just where
+    /// the far floor's noise was worst (the denoised 99th percentile 6-10 % higher in every
+    /// Table 8.1 room; `docs/benchmarks.md`).
     pub sigma_albedo: f64,
     /// Lighting difference, in standard errors, that the weight tolerates.
     pub sigma_lighting: f64,
@@ -400,7 +432,7 @@ impl Default for DenoiseOptions {
             passes: 5,
             sigma_normal: 64.0,
             sigma_depth: 0.05,
-            sigma_albedo: 0.1,
+            sigma_albedo: f64::INFINITY,
             sigma_lighting: 4.0,
         }
     }
@@ -667,10 +699,14 @@ impl Guide<'_> {
         };
         let (zi, zj) = (self.depth[i], self.depth[j]);
         let depth = -(zi - zj).abs() / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9) * trust;
-        let da: f64 = (0..3)
-            .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
-            .sum();
-        let albedo = -da / (o.sigma_albedo * o.sigma_albedo) * trust;
+        let albedo = if o.sigma_albedo.is_finite() {
+            let da: f64 = (0..3)
+                .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
+                .sum();
+            -da / (o.sigma_albedo * o.sigma_albedo) * trust
+        } else {
+            0.0
+        };
         Some(normal + depth + albedo)
     }
 
