@@ -209,8 +209,9 @@ pub struct ImageArgs {
     /// scene's `[render]` table).
     #[arg(long)]
     pub straight_rays: bool,
-    /// No pixel footprint: count the light's mirror images up to a few pixels wide by ray hits
-    /// alone and point-sample checkerboards (noisier; for comparing with other renderers).
+    /// No pixel footprint: count the light's mirror images up to a few pixels wide, and the far
+    /// ones that light sampling cannot draw seen after a bounce, by ray hits alone, and
+    /// point-sample checkerboards (noisier; for comparing with other renderers).
     #[arg(long)]
     pub no_footprint: bool,
     /// Trace every path in full: no radiance cache for far mirror images and indirect light

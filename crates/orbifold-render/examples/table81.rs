@@ -2,13 +2,14 @@
 //!
 //! `cargo run --release -p orbifold-render --example table81 -- [--size N] [--seconds T] [--spp N]
 //! [--only SIG] [--mesh FILE] [--save DIR] [--uniform] [--raw-target] [--no-footprint]
-//! [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
+//! [--no-bounce-footprint] [--no-cache] [--reference T] [--crease DEGREES] [--checkpoints T1,T2,...] [--filter
 //! box|gaussian] [--light-candidates N]` (`--save`
 //! writes the raw and denoised PNGs of both seeds, the difference of the two denoised images, 8 grey levels a
 //! level, the samples each pixel got, and each pixel's own estimate of its raw display noise
 //! (16-bit, 256 grey values a level); `--uniform`: no adaptive sampling; `--raw-target`:
 //! adaptive sampling aimed at the raw image's noise, not the denoised one's; `--no-footprint`:
-//! camera rays without their pixel's footprint; `--no-cache`: every path traced in full, without
+//! camera rays without their pixel's footprint; `--no-bounce-footprint`: far light images that
+//! light sampling cannot draw, seen after a bounce, found by ray hits alone; `--no-cache`: every path traced in full, without
 //! the radiance cache; `--spp N`: N samples a pixel (a mean, with adaptive sampling) instead of
 //! a time limit, so that per-sample noise can be compared whatever else the machine runs;
 //! `--reference T`: also the error of the first image, raw and denoised,
@@ -59,6 +60,7 @@ struct Args {
     uniform: bool,
     raw_target: bool,
     no_footprint: bool,
+    no_bounce_footprint: bool,
     no_cache: bool,
     light_candidates: u32,
     reference: Option<f64>,
@@ -78,6 +80,7 @@ fn parse_args() -> Args {
         uniform: false,
         raw_target: false,
         no_footprint: false,
+        no_bounce_footprint: false,
         no_cache: false,
         light_candidates: orbifold_render::integrator::DEFAULT_LIGHT_CANDIDATES,
         reference: None,
@@ -105,6 +108,7 @@ fn parse_args() -> Args {
             "--uniform" => args.uniform = true,
             "--raw-target" => args.raw_target = true,
             "--no-footprint" => args.no_footprint = true,
+            "--no-bounce-footprint" => args.no_bounce_footprint = true,
             "--no-cache" => args.no_cache = true,
             "--light-candidates" => {
                 args.light_candidates = value().parse().expect("--light-candidates takes a count")
@@ -453,6 +457,7 @@ fn main() {
         let settings = Settings {
             max_depth: 50,
             pixel_footprint: !args.no_footprint,
+            bounce_footprint: !args.no_bounce_footprint,
             radiance_cache: !args.no_cache,
             light_candidates: args.light_candidates,
             ..Settings::default()

@@ -71,6 +71,12 @@ pub struct Settings {
     /// cover, not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
+    /// With the pixel footprint and light sampling, rays that leave a diffuse bounce carry a
+    /// footprint too ([`BOUNCE_GLIMPSE`]; on by default), with which the far mirror images of
+    /// sphere lights that light sampling cannot draw (beyond the image set's cutoff: thousands
+    /// in a hyperbolic room) count by the share of it they cover instead of by rare hits of
+    /// enormous radiance. Off, those images are found by ray hits alone.
+    pub bounce_footprint: bool,
     /// Read the light that far mirror images of diffuse surfaces reflect, and the light that
     /// diffuse surfaces reached by a diffuse bounce reflect, from a cache filled by the render's
     /// own paths ([`crate::radiance_cache`]; on by default, used by [`crate::render`]). It needs
@@ -91,6 +97,7 @@ impl Default for Settings {
             glow: [0.0; 3],
             straight_rays: false,
             pixel_footprint: true,
+            bounce_footprint: true,
             radiance_cache: true,
             light_candidates: DEFAULT_LIGHT_CANDIDATES,
         }
@@ -459,6 +466,37 @@ const NEAR_CLAMP: f64 = 0.05;
 /// Per-point weights use at least this cosine (a light has a size: part of it can be above the
 /// surface's horizon while its centre is below).
 const COSINE_FLOOR: f64 = 0.05;
+
+/// The footprint that a ray leaving a diffuse bounce carries to count the far mirror images of
+/// sphere lights that light sampling cannot draw (beyond the image set's cutoff, thousands of
+/// them in a hyperbolic room) by the share of it they cover, rather than by rare hits of
+/// enormous radiance: a box of ±0.1 rad around the ray (the radiance cache's
+/// [`radiance_cache::DIFFUSE_SPREAD`]), over which a Lambertian lobe hardly changes (a glossy
+/// one could, so glossy bounces leave those images to ray hits). Capped at each light as a
+/// camera's footprint is ([`crate::footprint`]). Not on the sphere, whose images are few and
+/// all drawn.
+const BOUNCE_GLIMPSE: Footprint = Footprint {
+    across: radiance_cache::DIFFUSE_SPREAD,
+    up: radiance_cache::DIFFUSE_SPREAD,
+    centre: [0.0; 2],
+};
+
+/// The footprint a march counts small sphere-light images with ([`crate::footprint`]).
+#[derive(Clone, Copy, Debug)]
+enum Glimpses<'a> {
+    /// A camera ray's pixel: every image.
+    Camera(&'a Footprint),
+    /// A ray from a diffuse bounce: only the images that light sampling cannot draw.
+    Bounce(&'a Footprint),
+}
+
+impl Glimpses<'_> {
+    fn footprint(&self) -> &Footprint {
+        match self {
+            Glimpses::Camera(f) | Glimpses::Bounce(f) => f,
+        }
+    }
+}
 
 /// A surface point to be lit by a light sample, with what its BSDF needs.
 struct LitPoint<'a> {
@@ -1117,6 +1155,14 @@ impl Integrator {
             .ok()
     }
 
+    /// Whether light sampling can draw the image of light `light` that a path sees after
+    /// meeting the walls of `chain` (not round the sphere: [`BOUNCE_GLIMPSE`] is off there).
+    fn samples_image(&self, light: usize, chain: &DMat3) -> bool {
+        self.images
+            .find_chain(chain)
+            .is_some_and(|image| self.entry_index(light, image, 0).is_some())
+    }
+
     /// The nearest room surface, object or area light along a ray, leaving out light `skip`.
     fn nearest(&self, ray: &Ray, skip: Option<usize>) -> Option<Near> {
         let space = self.space();
@@ -1198,12 +1244,13 @@ impl Integrator {
         length: f64,
         skip: Option<usize>,
         mut roulette: Option<(&mut Sampler, f64, f64)>,
-        footprint: Option<&Footprint>,
+        glimpses: Option<Glimpses<'_>>,
         visibility_only: bool,
     ) -> March {
         let space = self.space();
         // The footprint as it is carried: mirrors swap left and right.
-        let mut carried = footprint.copied();
+        let mut carried = glimpses.map(|g| *g.footprint());
+        let unsampled_only = matches!(glimpses, Some(Glimpses::Bounce(_)));
         let mut march = March {
             end: MarchEnd::Lost,
             throughput: [1.0; 3],
@@ -1229,7 +1276,13 @@ impl Integrator {
                 self.nearest(&march.ray, skip).filter(|n| n.s < remaining)
             };
             if let Some(footprint) = &carried {
-                self.glimpse(&mut march, footprint, near.as_ref(), remaining);
+                self.glimpse(
+                    &mut march,
+                    footprint,
+                    near.as_ref(),
+                    remaining,
+                    unsampled_only,
+                );
             }
             let Some(near) = near else {
                 if remaining.is_finite() {
@@ -1277,13 +1330,16 @@ impl Integrator {
     }
 
     /// Adds to `march.glimpsed` the sphere lights whose images near the stretch of `march.ray`
-    /// up to `near` (or to `remaining`) are at most a few footprints wide.
+    /// up to `near` (or to `remaining`) are at most a few footprints wide; with
+    /// `unsampled_only`, only the images that light sampling cannot draw (the others are
+    /// weighed against it by MIS when a ray hits them).
     fn glimpse(
         &self,
         march: &mut March,
         footprint: &Footprint,
         near: Option<&Near>,
         remaining: f64,
+        unsampled_only: bool,
     ) {
         let space = self.space();
         let end = near.map_or(remaining, |n| n.s);
@@ -1301,6 +1357,9 @@ impl Integrator {
                 slack,
             );
             if let Glimpse::Covered(share) = glimpse {
+                if unsampled_only && self.samples_image(l, &march.chain) {
+                    continue;
+                }
                 add(
                     &mut march.glimpsed,
                     scale(mul(march.throughput, radiance), share),
@@ -1763,6 +1822,9 @@ impl Integrator {
         // The camera path's first diffuse surface, while its estimate for the cache is traced.
         let mut pending: Option<Pending> = None;
         let mut previous_diffuse = false;
+        // Whether the ray leaves a diffuse bounce, whose small far light images that light
+        // sampling cannot draw are counted by their coverage of [`BOUNCE_GLIMPSE`].
+        let mut bounce_glimpses = false;
         // The light seen before the first surface (`FirstHit::emitted`), and the first surface's
         // light sample (`FirstHit::direct`).
         let mut seen = [0.0; 3];
@@ -1776,7 +1838,11 @@ impl Integrator {
                 ROULETTE_LEVEL
             };
             let roulette = Some((&mut *sampler, luminance(beta), level));
-            let march = self.march(&ray, f64::INFINITY, None, roulette, carried, false);
+            let glimpses = match carried {
+                Some(footprint) => Some(Glimpses::Camera(footprint)),
+                None => bounce_glimpses.then_some(Glimpses::Bounce(&BOUNCE_GLIMPSE)),
+            };
+            let march = self.march(&ray, f64::INFINITY, None, roulette, glimpses, false);
             let before_surfaces = first.is_none();
             add(&mut radiance, mul(beta, march.glimpsed));
             if before_surfaces {
@@ -1929,6 +1995,11 @@ impl Integrator {
             beta = mul(beta, sample.weight);
             specular = sample.delta;
             previous_diffuse = matches!(bsdf, Bsdf::Diffuse { .. });
+            bounce_glimpses = footprint.is_some()
+                && self.settings.bounce_footprint
+                && self.settings.nee
+                && previous_diffuse
+                && space.kappa() <= 0.0;
             pdf_bsdf = sample.pdf;
             previous = (x, h, Normal::new(&frame, normal));
             if depth >= 3 {

@@ -283,3 +283,59 @@ fn the_light_seen_directly_and_the_first_light_sample_are_parts_of_the_radiance(
         );
     }
 }
+
+/// The light that a bounce finds (the sample's radiance less the light seen directly and the
+/// first surface's light sample) for `n` camera rays at the floor of `scene`, with or without
+/// the bounce footprint (the same random numbers both ways): the mean and the variance.
+fn bounce_light(scene: &Scene, n: u64, bounce_footprint: bool) -> (f64, f64) {
+    let settings = Settings {
+        max_depth: 1,
+        bounce_footprint,
+        ..Settings::default()
+    };
+    let integrator = Integrator::from_scene(scene, None, settings).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let size = 16;
+    let values: Vec<f64> = (0..n)
+        .map(|k| {
+            let p = (k % (size * size)) as u32;
+            let (i, j) = (p % size as u32, p / size as u32);
+            let mut sampler = Sampler::stratified(11, u64::from(p), k / (size * size));
+            let offset = sampler.next_2d();
+            let ray = camera.ray(i, j, size as u32, size as u32, offset);
+            let f = camera.footprint(i, j, size as u32, size as u32, offset);
+            let sample = integrator.sample_pixel(&ray, Some(f), &mut sampler);
+            let (e, d, r) = (sample.first.emitted, sample.first.direct, sample.radiance);
+            luminance(r) - luminance(e) - luminance(d)
+        })
+        .collect();
+    let mean = values.iter().sum::<f64>() / n as f64;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n as f64 - 1.0);
+    (mean, variance)
+}
+
+#[test]
+fn far_light_images_seen_after_a_bounce_keep_their_mean_and_lose_their_noise() {
+    // Light sampling draws a hyperbolic room's light images only up to the image set's cutoff;
+    // beyond it are thousands more, each far smaller than the spread of a diffuse bounce (with
+    // mirrors that lose nothing, they carry a good share of the light). A bounce counts them by
+    // the share of its footprint they cover rather than by rare hits: the same light, less noise.
+    for (signature, most) in [("*444", 0.75), ("*3333", 0.5)] {
+        let mut scene = scene(signature, 60.0, -40.0);
+        scene.room.reflectance = [1.0; 3];
+        let n = 1 << 13;
+        let (a, va) = bounce_light(&scene, n, false);
+        let (b, vb) = bounce_light(&scene, n, true);
+        let error = ((va + vb) / n as f64).sqrt();
+        assert!(
+            a > 0.0 && (a - b).abs() < 4.0 * error + 0.01 * a,
+            "{signature}: hits {a} ± {}, footprint {b} ± {}",
+            (va / n as f64).sqrt(),
+            (vb / n as f64).sqrt()
+        );
+        assert!(
+            vb < most * va,
+            "{signature}: variance {vb} with the bounce footprint, {va} without"
+        );
+    }
+}

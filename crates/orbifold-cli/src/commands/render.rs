@@ -100,6 +100,7 @@ pub(crate) fn settings_and_options(
         glow: [args.glow.unwrap_or(0.0); 3],
         straight_rays: args.straight_rays || of_scene.straight_rays,
         pixel_footprint: !args.no_footprint,
+        bounce_footprint: !args.no_footprint,
         radiance_cache: !args.no_radiance_cache,
         light_candidates: args.light_candidates,
     };
