@@ -30,6 +30,7 @@ use orbifold::space::Space;
 use orbifold_scene::{LightKind, Scene};
 
 use crate::bvh::Bvh;
+use crate::cpu::with_avx2;
 use crate::geodesic::Ray;
 use crate::instance::Instance;
 use crate::room::AnalyticRoom;
@@ -388,6 +389,10 @@ const MAX_BLOCKS: usize = 64;
 /// the sphere's radius and m = 0.05 + r²: a margin for the triangles' extent and for the
 /// curvature over the light, so that no triangle that faces `b` is left out. Points within 1.05 r
 /// of the centre keep every triangle.
+///
+/// Among the kept triangles, light sampling draws each by about the solid angle it fills seen
+/// from the point ([`Aim::weight`]), not by its area, so that a light sample's estimate hardly
+/// varies over the sphere.
 #[derive(Clone, Debug)]
 pub struct Facing {
     /// The curvature of the plane.
@@ -397,37 +402,135 @@ pub struct Facing {
     radius: f64,
     /// Per triangle (n_x, n_y, n_z, n·a): its outward normal and offset.
     planes: Vec<[f64; 4]>,
-    /// The same planes and the triangles' areas, `BLOCK` triangles at a time, one array per
-    /// quantity, for the pass over all of them at every light sample (SIMD, no branches).
-    blocks: Vec<PlaneBlock>,
+    /// The same planes and the triangles' areas, one array per quantity, for the pass over all
+    /// of them at every light sample (SIMD, no branches).
+    lanes: PlaneLanes,
 }
 
-/// `BLOCK` triangles' planes and areas side by side (padding: area 0).
+/// The triangles' planes and areas, one array per quantity, padded to whole blocks of `BLOCK`
+/// (padding: area 0).
 #[derive(Clone, Debug)]
-struct PlaneBlock {
-    nx: [f64; BLOCK],
-    ny: [f64; BLOCK],
-    nz: [f64; BLOCK],
-    offset: [f64; BLOCK],
-    area: [f64; BLOCK],
+struct PlaneLanes {
+    nx: Vec<f32>,
+    ny: Vec<f32>,
+    nz: Vec<f32>,
+    offset: Vec<f32>,
+    /// The triangles' centroids.
+    cx: Vec<f32>,
+    cy: Vec<f32>,
+    cz: Vec<f32>,
+    area: Vec<f32>,
 }
 
-impl PlaneBlock {
-    /// The block's kept area for the local point `b` with margin `margin` (as
-    /// [`Facing::keeps`] decides, summed pairwise: a running sum would wait on every addition).
+/// A lit point in the local coordinates of a sphere light's [`Facing`], with what weighing its
+/// triangles for it takes.
+///
+/// Weights are worked out in single precision, eight triangles to an AVX register: they only
+/// shape a distribution, and sampling and its density read the same bits.
+#[derive(Clone, Copy, Debug)]
+struct Aim {
+    /// The point.
+    b: [f32; 3],
+    /// The facing margin ([`Facing::margin`]).
+    margin: f32,
+    /// A floor under squared distances, (0.05 r)² for the sphere's radius r (points are kept
+    /// only beyond 1.05 r from its centre).
+    floor: f32,
+}
+
+impl Aim {
+    /// The weight of a kept triangle of area `area` whose plane is `value` in front of the
+    /// point and whose centroid is ℓ away (`squared` = ℓ²): about the solid angle it fills seen
+    /// from the point, area · value / ℓ³ (area times the cosine at the triangle over ℓ²).
+    /// The margin is added to `value` (kept triangles have `value` > −margin) so that those kept
+    /// only by the margin, seen past the silhouette through the curvature, can still be drawn. These weights make a light
+    /// sample's estimate nearly constant over the sphere, where area weights leave each
+    /// triangle's cosine over ℓ² in it: a relative variance of about 1/3 seen from far away,
+    /// and far more from near.
     #[inline(always)]
-    fn kept_area(&self, b: DVec3, margin: f64) -> f64 {
-        let mut kept = [0.0; BLOCK];
-        for (j, k) in kept.iter_mut().enumerate() {
-            let value = self.nx[j] * b.x + self.ny[j] * b.y + self.nz[j] * b.z - self.offset[j];
-            // The area masked by the comparison (what SIMD compare-and-mask does; a select
-            // of two floats is left scalar on baseline x86-64).
-            let mask = if value > -margin { u64::MAX } else { 0 };
-            *k = f64::from_bits(self.area[j].to_bits() & mask);
-        }
-        let [a0, a1, a2, a3, a4, a5, a6, a7] = kept;
-        ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7))
+    fn weight(&self, area: f32, value: f32, squared: f32) -> f32 {
+        let squared = squared.max(self.floor);
+        area * (value + self.margin) / (squared * squared.sqrt())
     }
+}
+
+impl PlaneLanes {
+    fn new(planes: &[[f64; 4]], centroids: &[DVec3], areas: &[f64]) -> PlaneLanes {
+        let padded = planes.len().div_ceil(BLOCK) * BLOCK;
+        // Padding: area 0, and a centroid far from any point (no distance 0 to divide by).
+        let lane = |f: &dyn Fn(usize) -> f64, padding: f32| -> Vec<f32> {
+            (0..padded)
+                .map(|i| {
+                    if i < planes.len() {
+                        f(i) as f32
+                    } else {
+                        padding
+                    }
+                })
+                .collect()
+        };
+        PlaneLanes {
+            nx: lane(&|i| planes[i][0], 0.0),
+            ny: lane(&|i| planes[i][1], 0.0),
+            nz: lane(&|i| planes[i][2], 0.0),
+            offset: lane(&|i| planes[i][3], 0.0),
+            cx: lane(&|i| centroids[i].x, 1e3),
+            cy: lane(&|i| centroids[i].y, 1e3),
+            cz: lane(&|i| centroids[i].z, 1e3),
+            area: lane(&|i| areas[i], 0.0),
+        }
+    }
+
+    /// How many blocks.
+    fn blocks(&self) -> usize {
+        self.area.len() / BLOCK
+    }
+
+    /// The weights for the aim of the triangles from `start` on, as many as `out` holds:
+    /// [`Aim::weight`] where the triangle is kept, else 0. One plain loop over the arrays, which
+    /// the compiler turns into SIMD; lane by lane the same operations whatever the stretch, so
+    /// a block's weights are the same bits whether worked out alone or with all the others.
+    #[inline(always)]
+    fn weights_into(&self, aim: &Aim, start: usize, out: &mut [f32]) {
+        let n = out.len();
+        let range = start..start + n;
+        let (nx, ny, nz) = (
+            &self.nx[range.clone()],
+            &self.ny[range.clone()],
+            &self.nz[range.clone()],
+        );
+        let (cx, cy, cz) = (
+            &self.cx[range.clone()],
+            &self.cy[range.clone()],
+            &self.cz[range.clone()],
+        );
+        let (offset, area) = (&self.offset[range.clone()], &self.area[range]);
+        let [x, y, z] = aim.b;
+        for i in 0..n {
+            let value = nx[i] * x + ny[i] * y + nz[i] * z - offset[i];
+            let (dx, dy, dz) = (x - cx[i], y - cy[i], z - cz[i]);
+            let weight = aim.weight(area[i], value, dx * dx + dy * dy + dz * dz);
+            // The weight masked by the comparison (what SIMD compare-and-mask does).
+            let mask = if value > -aim.margin { u32::MAX } else { 0 };
+            out[i] = f32::from_bits(weight.to_bits() & mask);
+        }
+    }
+
+    /// Block `k`'s weights for the aim.
+    #[inline(always)]
+    fn block(&self, aim: &Aim, k: usize) -> [f32; BLOCK] {
+        let mut weights = [0.0; BLOCK];
+        self.weights_into(aim, k * BLOCK, &mut weights);
+        weights
+    }
+}
+
+/// A block's weights summed: halves, then quarters, then pairs (the order in which a register
+/// is folded; a running sum would wait on every addition).
+#[inline(always)]
+fn block_sum(weights: &[f32]) -> f64 {
+    let h: [f64; 4] = std::array::from_fn(|j| f64::from(weights[j]) + f64::from(weights[j + 4]));
+    (h[0] + h[2]) + (h[1] + h[3])
 }
 
 impl Facing {
@@ -465,31 +568,14 @@ impl Facing {
             .zip(&centroids)
             .map(|(n, a)| [n.x, n.y, n.z, n.dot(*a)])
             .collect();
-        let blocks = planes
-            .chunks(BLOCK)
-            .zip(areas.chunks(BLOCK))
-            .map(|(planes, areas)| {
-                let mut block = PlaneBlock {
-                    nx: [0.0; BLOCK],
-                    ny: [0.0; BLOCK],
-                    nz: [0.0; BLOCK],
-                    offset: [0.0; BLOCK],
-                    area: [0.0; BLOCK],
-                };
-                for (j, (plane, &area)) in planes.iter().zip(areas).enumerate() {
-                    [block.nx[j], block.ny[j], block.nz[j], block.offset[j]] = *plane;
-                    block.area[j] = area;
-                }
-                block
-            })
-            .collect();
+        let lanes = PlaneLanes::new(&planes, &centroids, areas);
         (radius > 0.0 && radius.is_finite()).then_some(Facing {
             kappa: space.kappa(),
             frame,
             centre,
             radius,
             planes,
-            blocks,
+            lanes,
         })
     }
 
@@ -519,43 +605,54 @@ impl Facing {
         angle * ((b - self.centre).length() + self.radius)
     }
 
-    /// Whether triangle `i` is kept for the local point `b` with margin `margin`.
+    /// What sampling needs to weigh the triangles for the local point `b`.
+    fn aim(&self, b: DVec3) -> Aim {
+        let margin = self.margin(b);
+        Aim {
+            b: [b.x as f32, b.y as f32, b.z as f32],
+            margin: margin as f32,
+            floor: (0.05 * self.radius).powi(2) as f32,
+        }
+    }
+
+    /// Triangle `i`'s weight for the aim `aim` (0 when it is not kept), computed as the blocks
+    /// compute it, to the bit.
     #[inline]
-    fn keeps(&self, i: usize, b: DVec3, margin: f64) -> bool {
-        Self::keeps_plane(&self.planes[i], b, margin)
+    fn weight_of(&self, i: usize, aim: &Aim) -> f64 {
+        f64::from(self.lanes.block(aim, i / BLOCK)[i % BLOCK])
+    }
+
+    /// The kept weight block by block (`BLOCK` triangles each) into `blocks`, and the total;
+    /// `None` when the light has more than `BLOCK`·`MAX_BLOCKS` triangles.
+    fn kept_blocks(&self, aim: &Aim, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64> {
+        with_avx2!(
+            Facing,
+            self.kept_blocks_portable(aim: &Aim, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64>
+        )
     }
 
     #[inline(always)]
-    fn keeps_plane(plane: &[f64; 4], b: DVec3, margin: f64) -> bool {
-        plane[0] * b.x + plane[1] * b.y + plane[2] * b.z - plane[3] > -margin
-    }
-
-    /// The kept area block by block (`BLOCK` triangles each) into `blocks`, and the total;
-    /// `None` when the light has more than `BLOCK`·`MAX_BLOCKS` triangles.
-    fn kept_blocks(&self, b: DVec3, margin: f64, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64> {
-        if self.blocks.len() > MAX_BLOCKS {
+    fn kept_blocks_portable(&self, aim: &Aim, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64> {
+        let count = self.lanes.blocks();
+        if count > MAX_BLOCKS {
             return None;
         }
+        let mut weights = [0.0; BLOCK * MAX_BLOCKS];
+        let weights = &mut weights[..count * BLOCK];
+        self.lanes.weights_into(aim, 0, weights);
         let mut total = 0.0;
-        for (block, sum) in self.blocks.iter().zip(blocks.iter_mut()) {
-            *sum = block.kept_area(b, margin);
+        for (block, sum) in weights.chunks_exact(BLOCK).zip(blocks.iter_mut()) {
+            *sum = block_sum(block);
             total += *sum;
         }
         Some(total)
     }
 
-    /// The kept triangle that `target` (in [0, kept area)) falls on when the kept triangles'
-    /// areas are laid end to end (the last kept one if rounding runs past): whole blocks are
+    /// The kept triangle that `target` (in [0, kept weight)) falls on when the kept triangles'
+    /// weights are laid end to end (the last kept one if rounding runs past): whole blocks are
     /// stepped over by their sums, and only the block it falls in is scanned.
-    fn pick(
-        &self,
-        areas: &[f64],
-        b: DVec3,
-        margin: f64,
-        blocks: &[f64; MAX_BLOCKS],
-        mut target: f64,
-    ) -> Option<usize> {
-        let count = self.blocks.len();
+    fn pick(&self, aim: &Aim, blocks: &[f64; MAX_BLOCKS], mut target: f64) -> Option<usize> {
+        let count = self.lanes.blocks();
         let range = |k: usize| k * BLOCK..((k + 1) * BLOCK).min(self.planes.len());
         let mut last = None;
         for (k, &sum) in blocks[..count].iter().enumerate() {
@@ -567,37 +664,31 @@ impl Facing {
                 target -= sum;
                 continue;
             }
+            let weights = self.lanes.block(aim, k);
             for i in range(k) {
-                if self.keeps(i, b, margin) {
-                    if target < areas[i] {
+                let weight = f64::from(weights[i % BLOCK]);
+                if weight > 0.0 {
+                    if target < weight {
                         return Some(i);
                     }
-                    target -= areas[i];
+                    target -= weight;
                 }
             }
         }
         // Rounding ran past the end: the last kept triangle.
-        range(last?).rev().find(|&i| self.keeps(i, b, margin))
+        let last = last?;
+        let weights = self.lanes.block(aim, last);
+        range(last).rev().find(|&i| weights[i % BLOCK] > 0.0)
     }
 
-    /// The total of `areas` over the triangles kept for `b` (one branch-free pass; summed as
+    /// The total weight of the triangles kept for the aim (one branch-free pass; summed as
     /// [`Facing::kept_blocks`] sums it, so that sampling and its density agree to the last bit).
-    fn kept_area(&self, areas: &[f64], b: DVec3, margin: f64) -> f64 {
+    fn kept_weight(&self, aim: &Aim) -> f64 {
         let mut blocks = [0.0; MAX_BLOCKS];
-        if let Some(total) = self.kept_blocks(b, margin, &mut blocks) {
+        if let Some(total) = self.kept_blocks(aim, &mut blocks) {
             return total;
         }
-        self.planes
-            .iter()
-            .zip(areas)
-            .map(|(plane, &a)| {
-                if Self::keeps_plane(plane, b, margin) {
-                    a
-                } else {
-                    0.0
-                }
-            })
-            .sum()
+        (0..self.planes.len()).map(|i| self.weight_of(i, aim)).sum()
     }
 }
 
@@ -696,8 +787,7 @@ pub struct LightPoint {
 /// The facing triangles of a sphere light for one lit point, by blocks ([`Facing::kept_blocks`]).
 #[derive(Clone, Copy, Debug)]
 struct KeptBlocks {
-    b: DVec3,
-    margin: f64,
+    aim: Aim,
     blocks: [f64; MAX_BLOCKS],
     kept: f64,
 }
@@ -733,25 +823,28 @@ impl AimedLight<'_> {
             && kept.kept > 0.0
         {
             // The kept triangles' set changes with the point: block sums, then one block.
-            let i = facing.pick(areas, kept.b, kept.margin, &kept.blocks, u * kept.kept)?;
-            return light.point_on(space, i, areas[i] / kept.kept, v);
+            let i = facing.pick(&kept.aim, &kept.blocks, u * kept.kept)?;
+            let weight = facing.weight_of(i, &kept.aim);
+            let probability = weight / kept.kept;
+            return light.point_on(space, i, probability, v);
         }
         let (index, probability) = match (light.kept(space, self.from), facing) {
-            (Some((b, margin, kept)), Some(facing)) => {
+            (Some((aim, kept)), Some(facing)) => {
                 // A linear scan over the kept triangles (their set changes with the point).
                 let mut target = u * kept;
                 let mut chosen = None;
-                for (i, a) in areas.iter().enumerate() {
-                    if facing.keeps(i, b, margin) {
-                        chosen = Some(i);
-                        if target < *a {
+                for i in 0..areas.len() {
+                    let weight = facing.weight_of(i, &aim);
+                    if weight > 0.0 {
+                        chosen = Some((i, weight));
+                        if target < weight {
                             break;
                         }
-                        target -= a;
+                        target -= weight;
                     }
                 }
-                let i = chosen?;
-                (i, areas[i] / kept)
+                let (i, weight) = chosen?;
+                (i, weight / kept)
             }
             // Pick a triangle ∝ area (binary search: a sphere light has thousands).
             _ => {
@@ -883,17 +976,14 @@ impl Light {
         Some((facing, b))
     }
 
-    /// For a sphere light and a lit point `from` (as for [`Light::facing_from`]), the point in
-    /// the local coordinates of [`Facing`], its margin and the total area of the triangles kept
-    /// for it; `None` when every triangle is a candidate.
-    fn kept(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(DVec3, f64, f64)> {
+    /// For a sphere light and a lit point `from` (as for [`Light::facing_from`]), the point's
+    /// [`Aim`] and the total weight of the triangles kept for it; `None` when every triangle is
+    /// a candidate.
+    fn kept(&self, space: Space, from: Option<(DVec3, f64)>) -> Option<(Aim, f64)> {
         let (facing, b) = self.facing_from(space, from)?;
-        let Emitter::Area { areas, .. } = &self.emitter else {
-            return None;
-        };
-        let margin = facing.margin(b);
-        let total = facing.kept_area(areas, b, margin);
-        (total > 0.0).then_some((b, margin, total))
+        let aim = facing.aim(b);
+        let total = facing.kept_weight(&aim);
+        (total > 0.0).then_some((aim, total))
     }
 
     /// Samples a point on the light (the centre for point lights) with uniforms `u`, `v`. With
@@ -940,15 +1030,10 @@ impl Light {
         };
         let blocked = facing.and_then(|facing| {
             let (_, b) = self.facing_from(space, from)?;
-            let margin = facing.margin(b);
+            let aim = facing.aim(b);
             let mut blocks = [0.0; MAX_BLOCKS];
-            let kept = facing.kept_blocks(b, margin, &mut blocks)?;
-            Some(KeptBlocks {
-                b,
-                margin,
-                blocks,
-                kept,
-            })
+            let kept = facing.kept_blocks(&aim, &mut blocks)?;
+            Some(KeptBlocks { aim, blocks, kept })
         });
         AimedLight {
             light: self,
@@ -1028,12 +1113,7 @@ impl Light {
             return 0.0;
         };
         let probability = match (self.kept(space, from), facing) {
-            (Some((b, margin, kept)), Some(facing)) => {
-                if !facing.keeps(triangle as usize, b, margin) {
-                    return 0.0;
-                }
-                areas[triangle as usize] / kept
-            }
+            (Some((aim, kept)), Some(facing)) => facing.weight_of(triangle as usize, &aim) / kept,
             _ => areas[triangle as usize] / total_area,
         };
         let t = instance.bvh.triangle(triangle);
@@ -1179,59 +1259,157 @@ mod tests {
     use super::*;
     use orbifold_scene::{LightKind, Scene};
 
-    /// The sphere light of radius 0.1 over the centre of `signature`'s default room: its
-    /// facing and its triangles' areas.
-    fn facing(signature: &str) -> (Facing, Vec<f64>) {
+    /// The sphere light of radius 0.1 over the centre of `signature`'s default room, and the
+    /// room's space.
+    fn sphere_light(signature: &str) -> (Space, Light) {
         let mut scene = Scene::default();
         scene.orbifold.signature = signature.into();
         let layout = scene.layout().unwrap();
         scene.lights[0].kind = LightKind::Sphere;
         scene.lights[0].at = [layout.centre.re, layout.centre.im];
         scene.lights[0].radius = 0.1;
-        let lights = Light::from_scene(layout.space(), &scene).unwrap();
+        let mut lights = Light::from_scene(layout.space(), &scene).unwrap();
+        (layout.space(), lights.swap_remove(0))
+    }
+
+    /// The sphere light of [`sphere_light`]: its facing and its triangles' areas.
+    fn facing(signature: &str) -> (Facing, Vec<f64>) {
+        let (_, light) = sphere_light(signature);
         let Emitter::Area {
             facing: Some(facing),
             areas,
             ..
-        } = &lights[0].emitter
+        } = &light.emitter
         else {
             panic!("a sphere light with its facing");
         };
         (facing.clone(), areas.clone())
     }
 
+    /// Triangle `i`'s plane value n·b − n·a for the local point `b` (in double precision).
+    fn plane_value(facing: &Facing, i: usize, b: DVec3) -> f64 {
+        let [x, y, z, offset] = facing.planes[i];
+        DVec3::new(x, y, z).dot(b) - offset
+    }
+
+    /// Points all around the light, near (1.1 r) and far (21 r).
+    fn points_around(facing: &Facing) -> impl Iterator<Item = DVec3> + '_ {
+        (0..400).map(|k| {
+            let t = f64::from(k);
+            let direction =
+                DVec3::new((t * 0.7).cos(), (t * 0.7).sin(), (t * 0.31).sin()).normalize();
+            facing.centre + direction * facing.radius * (1.1 + 0.05 * t)
+        })
+    }
+
     #[test]
     fn block_sums_pick_the_triangles_a_scan_would_keep() {
-        // For points all around the light, near and far: the kept area is the per-triangle
-        // scan's, and `pick` lays the kept triangles end to end in index order, each over a
-        // stretch as long as its area (so a triangle is picked ∝ its area).
+        // For points all around the light, near and far: the triangles with a weight are those
+        // that face the point within the margin, the block sums add up to their weights, and
+        // `pick` lays the kept triangles end to end in index order, each over a stretch as long
+        // as its weight (so a triangle is picked ∝ its weight).
         for signature in ["*235", "*2222", "*2223"] {
             let (facing, areas) = facing(signature);
-            for k in 0..400 {
-                let t = f64::from(k);
-                let direction =
-                    DVec3::new((t * 0.7).cos(), (t * 0.7).sin(), (t * 0.31).sin()).normalize();
-                let b = facing.centre + direction * facing.radius * (1.1 + 0.05 * t);
+            for b in points_around(&facing) {
+                let aim = facing.aim(b);
                 let margin = facing.margin(b);
-                let kept: Vec<usize> = (0..areas.len())
-                    .filter(|&i| facing.keeps(i, b, margin))
+                let weights: Vec<f64> = (0..areas.len())
+                    .map(|i| facing.weight_of(i, &aim))
                     .collect();
+                for (i, &w) in weights.iter().enumerate() {
+                    // Single precision may decide otherwise only right at the margin.
+                    let value = plane_value(&facing, i, b);
+                    if (value + margin).abs() > 1e-5 * margin {
+                        assert_eq!(w > 0.0, value > -margin, "triangle {i} at {b}");
+                    }
+                }
+                let kept: Vec<usize> = (0..areas.len()).filter(|&i| weights[i] > 0.0).collect();
                 assert!(!kept.is_empty() && kept.len() < areas.len());
-                let scan: f64 = kept.iter().map(|&i| areas[i]).sum();
+                let scan: f64 = weights.iter().sum();
                 let mut blocks = [0.0; MAX_BLOCKS];
-                let total = facing.kept_blocks(b, margin, &mut blocks).unwrap();
+                let total = facing.kept_blocks(&aim, &mut blocks).unwrap();
                 assert!((total - scan).abs() <= 1e-12 * scan, "{total} vs {scan}");
-                assert_eq!(facing.kept_area(&areas, b, margin), total);
+                assert_eq!(facing.kept_weight(&aim), total);
                 let mut start = 0.0;
                 for &i in &kept {
-                    let middle = start + 0.5 * areas[i];
-                    assert_eq!(facing.pick(&areas, b, margin, &blocks, middle), Some(i));
-                    start += areas[i];
+                    // Stretches too short to tell from the rounding of the running sums are
+                    // left out.
+                    if weights[i] > 1e-4 * total {
+                        let middle = start + 0.5 * weights[i];
+                        assert_eq!(facing.pick(&aim, &blocks, middle), Some(i));
+                    }
+                    start += weights[i];
                 }
                 // Past the end (rounding): the last kept triangle.
-                let last = facing.pick(&areas, b, margin, &blocks, total * (1.0 + 1e-9));
+                let last = facing.pick(&aim, &blocks, total * (1.0 + 1e-6));
                 assert_eq!(last, kept.last().copied());
             }
         }
+    }
+
+    #[test]
+    fn triangles_are_drawn_by_the_solid_angle_they_fill() {
+        // In a flat room, for points from 1.5 r to 21 r away: each clearly facing triangle's
+        // share of the weight, against its share of the solid angle the sphere fills (the exact
+        // solid angle of a flat triangle, Van Oosterom and Strackee). Drawing by area instead
+        // leaves out the cosine over the squared distance.
+        let (facing, areas) = facing("*2222");
+        let (space, light) = sphere_light("*2222");
+        let Emitter::Area { instance, .. } = &light.emitter else {
+            unreachable!()
+        };
+        let (points, heights, triangles) = instance.bvh.mesh();
+        let local = |i: u32| {
+            let i = i as usize;
+            facing
+                .frame
+                .to_local(space, space.log(DVec3::Z, points[i]), heights[i])
+        };
+        let mut worst: f64 = 1.0;
+        let mut worst_by_area: f64 = 1.0;
+        for b in points_around(&facing) {
+            // Nearer, the triangles are not small against their distance.
+            if (b - facing.centre).length() < 1.5 * facing.radius {
+                continue;
+            }
+            let aim = facing.aim(b);
+            let total = facing.kept_weight(&aim);
+            let kept_area: f64 = (0..areas.len())
+                .filter(|&i| facing.weight_of(i, &aim) > 0.0)
+                .map(|i| areas[i])
+                .sum();
+            let solid: Vec<f64> = triangles
+                .iter()
+                .map(|t| {
+                    let [p, q, r] = [local(t[0]) - b, local(t[1]) - b, local(t[2]) - b];
+                    let (lp, lq, lr) = (p.length(), q.length(), r.length());
+                    let numerator = p.dot(q.cross(r));
+                    let denominator = lp * lq * lr + p.dot(q) * lr + q.dot(r) * lp + r.dot(p) * lq;
+                    (2.0 * numerator.atan2(denominator)).abs()
+                })
+                .collect();
+            let seen: f64 = (0..areas.len())
+                .filter(|&i| plane_value(&facing, i, b) > 0.0)
+                .map(|i| solid[i])
+                .sum();
+            for i in 0..areas.len() {
+                let value = plane_value(&facing, i, b);
+                let distance = (b - facing.centre).length();
+                // Clearly facing: at least a third of the way from the silhouette to the front.
+                if value > (distance - facing.radius) / 3.0 {
+                    let share = facing.weight_of(i, &aim) / total;
+                    let ratio = share / (solid[i] / seen);
+                    worst = worst.max(ratio).max(1.0 / ratio);
+                    let by_area = areas[i] / kept_area / (solid[i] / seen);
+                    worst_by_area = worst_by_area.max(by_area).max(1.0 / by_area);
+                }
+            }
+        }
+        // Measured: 1.27 by weight, 5.8 by area.
+        assert!(worst < 1.35, "weights off the solid angle by up to {worst}");
+        assert!(
+            worst_by_area > 4.0,
+            "the points do not tell weights from areas"
+        );
     }
 }
