@@ -62,7 +62,7 @@ struct Args {
     no_footprint: bool,
     no_bounce_footprint: bool,
     no_cache: bool,
-    light_candidates: u32,
+    light_candidates: Option<u32>,
     reference: Option<f64>,
     crease: Option<f64>,
     checkpoints: Vec<f64>,
@@ -82,7 +82,7 @@ fn parse_args() -> Args {
         no_footprint: false,
         no_bounce_footprint: false,
         no_cache: false,
-        light_candidates: orbifold_render::integrator::DEFAULT_LIGHT_CANDIDATES,
+        light_candidates: None,
         reference: None,
         crease: None,
         checkpoints: Vec::new(),
@@ -111,7 +111,8 @@ fn parse_args() -> Args {
             "--no-bounce-footprint" => args.no_bounce_footprint = true,
             "--no-cache" => args.no_cache = true,
             "--light-candidates" => {
-                args.light_candidates = value().parse().expect("--light-candidates takes a count")
+                args.light_candidates =
+                    Some(value().parse().expect("--light-candidates takes a count"))
             }
             "--reference" => args.reference = Some(value().parse().expect("--reference T")),
             "--crease" => args.crease = Some(value().parse().expect("--crease DEGREES")),
