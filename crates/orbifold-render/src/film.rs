@@ -94,6 +94,10 @@ struct Accumulator {
     lum_mean: f64,
     /// Σ weight × (luminance − mean)² (the weighted M2).
     lum_m2: f64,
+    /// Under a reconstruction filter: Σ Kⱼ² vⱼ over the pixels j merged in, with Kⱼ the weight
+    /// of pixel j's mean and vⱼ the variance of that mean from its own samples (+∞ when some
+    /// pixel j has fewer than two); unused for a pixel's own samples.
+    mean_variance: f64,
 }
 
 impl Accumulator {
@@ -111,15 +115,29 @@ impl Accumulator {
         self.lum_m2 += w * delta * (l - self.lum_mean);
     }
 
-    /// The same samples, each weighted `factor` times as much.
+    /// The same samples, each weighted `factor` times as much; `mean_variance` is that of a
+    /// pixel's own samples so weighted (their mean's weight is K = `factor` · Σ weight).
     fn scaled(&self, factor: f64) -> Accumulator {
+        let weight = self.weight * factor;
         Accumulator {
             sum: self.sum.map(|s| s * factor),
-            weight: self.weight * factor,
+            weight,
             weight2: self.weight2 * factor * factor,
             lum_mean: self.lum_mean,
             lum_m2: self.lum_m2 * factor,
+            mean_variance: self.own_mean_variance().unwrap_or(f64::INFINITY) * weight * weight,
         }
+    }
+
+    /// The variance of the weighted mean luminance, s²·Σw²/(Σw)², with s² the weighted sample
+    /// variance of the samples summed here; `None` for fewer than two (effective) samples.
+    fn own_mean_variance(&self) -> Option<f64> {
+        let (w, w2) = (self.weight, self.weight2);
+        let effective = if w2 > 0.0 { w * w / w2 } else { 0.0 };
+        (effective > 1.0 + 1e-9).then(|| {
+            let s2 = (self.lum_m2 / (w - w2 / w)).max(0.0);
+            s2 * w2 / (w * w)
+        })
     }
 
     /// Adds another pixel's sums (Chan et al.'s formula for the deviations).
@@ -137,6 +155,7 @@ impl Accumulator {
         self.lum_m2 += other.lum_m2 + delta * delta * wa * wb / w;
         self.weight = w;
         self.weight2 += other.weight2;
+        self.mean_variance += other.mean_variance;
     }
 }
 
@@ -491,14 +510,18 @@ impl Film {
     /// The variance of the weighted mean luminance at pixel index `i`: s²·Σw²/(Σw)², with the
     /// unbiased weighted sample variance s² = M2/(Σw − Σw²/Σw) (for unit weights M2/(n − 1) and
     /// s²/n); `None` while the samples' effective number (Σw)²/Σw² is at most one.
+    /// The variance of pixel `i`'s mean luminance. Under a reconstruction filter the pixel is a
+    /// fixed weighted mean Σ Kⱼ mⱼ / Σ Kⱼ of its neighbours' means, each from its own samples,
+    /// so its variance is Σ Kⱼ² vⱼ / (Σ Kⱼ)². Pooling the neighbours' samples into one variance
+    /// instead would count the difference between their means — an edge, a light image's rim —
+    /// as noise that no number of samples takes away (measured in docs/benchmarks.md). Where a
+    /// neighbour has fewer than two samples, the pooled variance stands in.
     fn mean_variance_at(&self, i: usize) -> Option<f64> {
         let p = &self.pixels[i];
-        let (w, w2) = (p.weight, p.weight2);
-        let effective = if w2 > 0.0 { w * w / w2 } else { 0.0 };
-        (effective > 1.0 + 1e-9).then(|| {
-            let s2 = (p.lum_m2 / (w - w2 / w)).max(0.0);
-            s2 * w2 / (w * w)
-        })
+        if self.filter != PixelFilter::Box && p.mean_variance.is_finite() && p.weight > 0.0 {
+            return Some(p.mean_variance / (p.weight * p.weight));
+        }
+        p.own_mean_variance()
     }
 
     /// The standard error of the mean luminance of pixel (x, y): √(s²/n), with s² the unbiased

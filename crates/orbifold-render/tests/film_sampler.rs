@@ -519,8 +519,10 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
     /// A pixel's value under a filter is the filter's weighted mean of its neighbours' own
     /// means, Σ Kⱼ mⱼ / Σ Kⱼ, however many samples each neighbour has — the mean of its samples
-    /// weighted Kⱼ/nⱼ — and its standard error is the textbook one of that weighted mean of
-    /// independent samples, √(s²·Σw²)/Σw with s² = Σw(L − mean)²/(Σw − Σw²/Σw).
+    /// weighted Kⱼ/nⱼ — and its standard error is that of a weighted mean of independent means,
+    /// √(Σ Kⱼ² sⱼ²/nⱼ)/Σ Kⱼ with sⱼ² each neighbour's own sample variance; where a neighbour has
+    /// a single sample, the textbook one of the weighted mean of all the samples,
+    /// √(s²·Σw²)/Σw with s² = Σw(L − mean)²/(Σw − Σw²/Σw).
     #[test]
     fn a_filtered_pixel_is_the_weighted_mean_of_its_neighbours_means(
         seed in 0u64..1000,
@@ -552,7 +554,31 @@ proptest! {
                 let l = luminance(mean);
                 let m2: f64 = reach.iter().map(|r| r.0 * (luminance(r.1) - l).powi(2)).sum();
                 let se = film.standard_error(x, y);
-                if sw * sw > sw2 * (1.0 + 1e-6) {
+                // Each neighbour's own luminances, with its pixel weight.
+                let neighbours: Vec<(f64, Vec<f64>)> = (0..h)
+                    .flat_map(|j| (0..w).map(move |i| (i, j)))
+                    .filter_map(|(i, j)| {
+                        let kernel = k(i64::from(i) - i64::from(x)) * k(i64::from(j) - i64::from(y));
+                        let own: Vec<f64> = all
+                            .iter()
+                            .filter(|s| (s.0, s.1) == (i, j))
+                            .map(|s| luminance(s.2))
+                            .collect();
+                        (kernel > 0.0 && !own.is_empty()).then_some((kernel, own))
+                    })
+                    .collect();
+                if gaussian && neighbours.iter().all(|(_, own)| own.len() >= 2) {
+                    let (mut sk, mut var) = (0.0, 0.0);
+                    for (kernel, own) in &neighbours {
+                        let n = own.len() as f64;
+                        let m = own.iter().sum::<f64>() / n;
+                        let s2 = own.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
+                        sk += kernel;
+                        var += kernel * kernel * s2 / n;
+                    }
+                    let expected = var.sqrt() / sk;
+                    prop_assert!((se - expected).abs() < 1e-9 * (1.0 + expected), "{se} {expected}");
+                } else if sw * sw > sw2 * (1.0 + 1e-6) {
                     let expected = (m2 / (sw - sw2 / sw) * sw2).sqrt() / sw;
                     prop_assert!((se - expected).abs() < 1e-9 * (1.0 + expected), "{se} {expected}");
                 } else {
@@ -561,6 +587,55 @@ proptest! {
             }
         }
     }
+}
+
+/// A sharp edge is not noise: pixels whose samples agree report no error under the filter,
+/// however different their neighbours are; with noise on both sides, the error a pixel at the
+/// edge reports is what it varies by from render to render (pooling the neighbours' samples
+/// into one variance reported the edge's contrast instead, here over ten times the truth).
+#[test]
+fn an_edge_is_not_noise() {
+    let (w, h, n) = (6u32, 4u32, 8u64);
+    let value = |x: u32| if x < 3 { 10.0 } else { 0.1 };
+    let render = |seed: u64, noise: f64| {
+        let mut film = Film::new(w, h);
+        let mut splats = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                for k in 0..n {
+                    let u = Sampler::new(seed, u64::from(y * w + x), k).next_f64();
+                    let v = value(x) + noise * (u - 0.5);
+                    splats.push(orbifold_render::film::Splat {
+                        x,
+                        y,
+                        radiance: [v; 3],
+                    });
+                }
+            }
+        }
+        film.splat_all(&splats, PixelFilter::GAUSSIAN);
+        film
+    };
+    let clean = render(1, 0.0);
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(clean.standard_error(x, y), 0.0, "({x}, {y})");
+        }
+    }
+    // Pixel (3, 1), the dark side of the edge, over many renders.
+    let renders: Vec<Film> = (0..400).map(|seed| render(seed, 1.0)).collect();
+    let values: Vec<f64> = renders.iter().map(|f| luminance(f.pixel(3, 1))).collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let spread = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (values.len() - 1) as f64;
+    let reported = renders
+        .iter()
+        .map(|f| f.standard_error(3, 1).powi(2))
+        .sum::<f64>()
+        / renders.len() as f64;
+    assert!(
+        (reported / spread - 1.0).abs() < 0.25,
+        "{reported} vs {spread}"
+    );
 }
 
 /// The bias that pbrt's splatting has under adaptive sampling, and this film has not: a sharp
