@@ -526,7 +526,9 @@ impl Film {
 
     /// The standard error of the mean luminance of pixel (x, y): √(s²/n), with s² the unbiased
     /// sample variance of the luminance (Rec. 709 weights, see [`luminance`]) of its n samples;
-    /// for a filter's weighted mean, √(s²·Σw²)/Σw. Infinite when the pixel has fewer than two
+    /// under a reconstruction filter, whose pixel is the weighted mean Σ Kⱼ mⱼ / Σ Kⱼ of its
+    /// neighbours' means, √(Σ Kⱼ² sⱼ²/nⱼ)/Σ Kⱼ (or, where a neighbour has a single sample, that
+    /// of all the samples pooled, √(s²·Σw²)/Σw). Infinite when the pixel has fewer than two
     /// samples (the error is then unknown).
     ///
     /// # Panics
