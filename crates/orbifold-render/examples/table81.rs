@@ -376,7 +376,7 @@ fn checkpoint_rows(args: &Args, signature: &str, integrator: &Integrator, camera
         let raw = display_noise(&x.raw, &y.raw, x.exposure);
         let (rms, median, p99) = display_noise(&x.denoised, &y.denoised, x.exposure);
         println!(
-            "| `{signature}` | {} | {:.1} | {:.1}, {:.1}, {:.1} | {rms:.1}, {median:.1}, {p99:.1} |",
+            "| `{signature}` | {} | {:.1} | {:.1}, {:.1}, {:.1} | {rms:.2}, {median:.2}, {p99:.2} |",
             seconds(x.seconds),
             x.paths as f64 / pixels,
             raw.0,
@@ -532,7 +532,7 @@ fn main() {
         let paths = a.paths as f64 / a.elapsed.as_secs_f64();
         let rays = a.rays as f64 / a.elapsed.as_secs_f64();
         println!(
-            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.1}, {:.1}, {:.1} | {:.2} | {:.3} | {:.2} |",
+            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.2}, {:.2}, {:.2} | {:.2} | {:.3} | {:.2} |",
             integrator.space().geometry(),
             a.paths as f64 / f64::from(args.size).powi(2),
             a.film.relative_noise(),
