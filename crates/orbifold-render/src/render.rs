@@ -5,10 +5,11 @@
 //! most rounds sample only the pixels whose noise on screen matters most, and every
 //! [`FULL_ROUND_EVERY`]th round ([`FULL_ROUND_EVERY_DENOISED`]th for a denoised image) is
 //! again over the whole image. A pixel's score is its squared
-//! display error ([`Film::display_errors`]), or if more, [`NEIGHBOUR_SHARE`] of the largest
-//! of its eight neighbours' — so that a pixel whose few samples happened to agree (all missed
-//! the edge of a small bright light image that its neighbours show) is not left out, while
-//! the smooth pixels along a silhouette do not all take the silhouette's samples:
+//! display error ([`Film::display_errors`]), taken as the largest in its 3×3 neighbourhood so
+//! that a pixel whose few samples happened to agree is not left out, and so that how many
+//! samples a pixel gets depends little on its own samples' values (scored by its own samples
+//! alone, a pixel whose samples came out low stops early while one with a high outlier gets
+//! more that dilute it: the furnace in `tests/materials.rs` came out 2.7 % dark):
 //!
 //! - for an image shown as it is, the score is divided by the pixel's sample count (the
 //!   greedy order for the least summed squared error), and a round gives one sample to every
@@ -85,11 +86,6 @@ pub const FULL_ROUND_EVERY: u32 = 8;
 pub const FULL_ROUND_EVERY_DENOISED: u32 = 4;
 /// With adaptive sampling for a denoised image, the most samples a pixel gets in one round.
 pub const MOST_SAMPLES_PER_ROUND: u32 = 16;
-/// With adaptive sampling, the share of its noisiest neighbour's score that a pixel's score is
-/// at least. With the whole score, every pixel beside a silhouette or a light image's rim was
-/// sampled as much as the edge itself; with none, a rim pixel whose few samples all missed the
-/// light stayed behind, bright and noisy (measured in `docs/benchmarks.md`).
-pub const NEIGHBOUR_SHARE: f64 = 0.25;
 
 impl RenderOptions {
     /// `samples` samples per pixel (on average: adaptive sampling is on) over a `width` ×
@@ -475,15 +471,13 @@ fn noisiest(film: &Film, taken: &[u32], target: Target) -> Option<Vec<(u64, u32)
         .flat_map_iter(|y| {
             let score = &score;
             (0..width).map(move |x| {
-                let mut neighbours = 0.0f64;
+                let mut most = 0.0f64;
                 for yy in y.saturating_sub(1)..(y + 2).min(height) {
                     for xx in x.saturating_sub(1)..(x + 2).min(width) {
-                        if (xx, yy) != (x, y) {
-                            neighbours = neighbours.max(score[yy * width + xx]);
-                        }
+                        most = most.max(score[yy * width + xx]);
                     }
                 }
-                score[y * width + x].max(NEIGHBOUR_SHARE * neighbours)
+                most
             })
         })
         .collect();
@@ -530,17 +524,16 @@ mod tests {
     fn a_denoised_target_samples_what_the_filter_cannot_smooth() {
         // Sixteen equally noisy pixels: for the raw image every one is as noisy as the mean
         // (a round over the whole image); for a denoised one, only those that the filter
-        // leaves alone, several samples each.
+        // leaves alone, and their neighbours, several samples each.
         let film = film(&[(0.3, 0.1); 16]);
         let taken = [4; 16];
         assert_eq!(noisiest(&film, &taken, Target::Raw), None);
         let mut reduction = [1e-4; 16];
         reduction[..4].fill(1.0);
         let chosen = noisiest(&film, &taken, Target::Denoised(&reduction)).unwrap();
-        // Scores: e² for pixels 0-3, e²/4 for pixel 4 (a share of its neighbour's), e²/100 for
-        // the others; the mean is (4 + 1/4 + 11/100)/16 e², above pixel 4's, so each of pixels
-        // 0-3 gets ⌊16/4.36⌋ = 3 samples and pixel 4 none.
-        let expected: Vec<(u64, u32)> = (0..4).flat_map(|p| (0..3).map(move |k| (p, k))).collect();
+        // Scores: e² for pixels 0-4 (4 by its neighbour), e²/100 for the others; the mean is
+        // (5 + 11/100)/16 e², so each chosen pixel gets ⌊16/5.11⌋ = 3 samples.
+        let expected: Vec<(u64, u32)> = (0..5).flat_map(|p| (0..3).map(move |k| (p, k))).collect();
         assert_eq!(chosen, expected);
     }
 
