@@ -117,6 +117,43 @@ impl Ray {
         )
     }
 
+    /// The point at arc length `s` (ambient horizontal position, height) and the unit
+    /// horizontal tangent there, with one C_κ, S_κ pair for both: what a mirror bounce needs
+    /// ([`Ray::continued`]) besides where it is.
+    #[inline]
+    pub fn point_and_tangent_at(&self, space: Space, s: f64) -> (DVec3, DVec3, f64) {
+        let (c, sn) = space.cos_sin(s * self.cos_elevation);
+        (
+            self.origin * c + self.direction * sn,
+            self.direction * c - self.origin * (space.kappa() * sn),
+            self.height + s * self.sin_elevation,
+        )
+    }
+
+    /// The same geodesic started at arc length `s`, given its point and tangent there from
+    /// [`Ray::point_and_tangent_at`]: [`Ray::advanced`] without computing them again.
+    ///
+    /// ```
+    /// use orbifold_render::geodesic::Ray;
+    /// use orbifold::{Geometry, space::Space};
+    /// use num_complex::Complex64;
+    /// let h2 = Space::new(Geometry::Hyperbolic);
+    /// let ray = Ray::from_model(h2, Complex64::new(0.1, 0.2), 0.5, 1.0, 0.3);
+    /// let (point, tangent, _) = ray.point_and_tangent_at(h2, 1.7);
+    /// let (a, b) = (ray.continued(h2, 1.7, point, tangent), ray.advanced(h2, 1.7));
+    /// assert!((a.origin - b.origin).length() < 1e-15 && (a.direction - b.direction).length() < 1e-15);
+    /// ```
+    #[inline]
+    pub fn continued(&self, space: Space, s: f64, point: DVec3, tangent: DVec3) -> Ray {
+        Ray {
+            origin: point,
+            direction: tangent,
+            height: self.height + s * self.sin_elevation,
+            ..*self
+        }
+        .renormalized(space)
+    }
+
     /// The same geodesic started at arc length `s`.
     pub fn advanced(&self, space: Space, s: f64) -> Ray {
         let (c, sn) = space.cos_sin(s * self.cos_elevation);

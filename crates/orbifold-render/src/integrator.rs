@@ -643,6 +643,8 @@ struct Near {
     s: f64,
     struck: Struck,
     point: DVec3,
+    /// The ray's horizontal tangent at `point`, to go on from a mirror ([`Ray::continued`]).
+    tangent: DVec3,
     height: f64,
 }
 
@@ -1047,7 +1049,8 @@ impl Integrator {
                     .map_or(0.0, |(_, m)| luminance(m.reflectance));
                 travelled += exit.s;
                 let form = room.wall_form_at(w, exit.point);
-                ray = ray.advanced(space, exit.s).reflected(space, form);
+                ray =
+                    (ray.continued(space, exit.s, exit.point, exit.tangent)).reflected(space, form);
             }
             sum += carried;
         }
@@ -1180,6 +1183,7 @@ impl Integrator {
             s: h.s,
             struck: Struck::Surface(h.surface, h.triangle),
             point: h.point,
+            tangent: h.tangent,
             height: h.height,
         });
         for (l, light) in self.lights.iter().enumerate() {
@@ -1189,11 +1193,12 @@ impl Integrator {
             if let Emitter::Area { instance, .. } = &light.emitter {
                 let limit = best.map_or(f64::INFINITY, |b| b.s);
                 if let Some(t) = instance.intersect(space, ray, 0.0, limit) {
-                    let (point, height) = ray.point_at(space, t.s);
+                    let (point, tangent, height) = ray.point_and_tangent_at(space, t.s);
                     best = Some(Near {
                         s: t.s,
                         struck: Struck::Light(l, t.triangle, t.barycentric),
                         point,
+                        tangent,
                         height,
                     });
                 }
@@ -1230,6 +1235,7 @@ impl Integrator {
             s: e.s,
             struck: Struck::Surface(e.surface.into(), None),
             point: e.point,
+            tangent: e.tangent,
             height: e.height,
         }))
     }
@@ -1333,7 +1339,9 @@ impl Integrator {
             carried = carried.map(|f| f.reflected());
             march.chain *= reflection_matrix(space, form);
             march.length += near.s;
-            march.ray = march.ray.advanced(space, near.s).reflected(space, form);
+            march.ray = (march.ray)
+                .continued(space, near.s, near.point, near.tangent)
+                .reflected(space, form);
         }
         march
     }

@@ -46,6 +46,23 @@ fn crossing_key(space: Space, a: f64, b: f64) -> Option<f64> {
     (k == 0.0 || ratio < 1.0).then_some(ratio)
 }
 
+/// (C_κ(σ), S_κ(σ)) at the σ of [`line_crossing`]`(space, a, b)` without σ's inverse function:
+/// a C(σ) + b S(σ) = 0 puts (C, S) along (−b, a), scaled to C² + κS² = 1 by
+/// r = √(b² + κa²) (for κ < 0 as (−b − a)(a − b), without the cancellation). `None` where r is
+/// 0 (S², a ray along the line).
+#[inline]
+fn crossing_cos_sin(space: Space, a: f64, b: f64) -> Option<(f64, f64)> {
+    let a = a.max(0.0);
+    let k = space.kappa();
+    let r2 = if k < 0.0 {
+        (-b - a) * (a - b)
+    } else {
+        b * b + k * a * a
+    };
+    let r = r2.sqrt();
+    (r > 0.0).then(|| (-b / r, a / r))
+}
+
 /// A rectangular mirror on a wall: fractions of the wall's length × heights.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MirrorRect {
@@ -117,6 +134,9 @@ pub struct RoomHit {
     pub surface: RoomSurface,
     /// Ambient horizontal position.
     pub point: DVec3,
+    /// The ray's unit horizontal tangent there (before any reflection): with `point`, what
+    /// [`Ray::continued`] needs to go on from the exit.
+    pub tangent: DVec3,
     /// Height.
     pub height: f64,
 }
@@ -246,6 +266,7 @@ impl AnalyticRoom {
             let s = (-ray.height / ray.sin_elevation).max(0.0);
             best = Some((s, RoomSurface::Floor));
         }
+        let mut wall_cos_sin = None;
         if ray.cos_elevation > 0.0 {
             // The nearest wall by a key that grows with σ, so that only its crossing needs an
             // inverse function (`atanh` in H², `atan2` in S²).
@@ -278,17 +299,28 @@ impl AnalyticRoom {
                     WallCrossing::Line(a, b) => line_crossing(space, a, b)?,
                     WallCrossing::Found(sigma) => sigma,
                 };
-                Some((sigma, i))
+                Some((sigma, i, crossing))
             });
-            if let Some((sigma, i)) = sigma {
+            if let Some((sigma, i, crossing)) = sigma {
                 let s = sigma / ray.cos_elevation;
                 if best.is_none_or(|(t, _)| s < t) {
                     best = Some((s, RoomSurface::Wall(i)));
+                    if let WallCrossing::Line(a, b) = crossing {
+                        wall_cos_sin = crossing_cos_sin(space, a, b);
+                    }
                 }
             }
         }
         let (s, surface) = best?;
-        let (point, height) = ray.point_at(space, s);
+        let (point, tangent, height) = match (surface, wall_cos_sin) {
+            // The wall's crossing knows C(σ) and S(σ) without σ: no second transcendental.
+            (RoomSurface::Wall(_), Some((c, sn))) => (
+                ray.origin * c + ray.direction * sn,
+                ray.direction * c - ray.origin * (space.kappa() * sn),
+                ray.height + s * ray.sin_elevation,
+            ),
+            _ => ray.point_and_tangent_at(space, s),
+        };
         let height = match surface {
             RoomSurface::Floor => 0.0,
             RoomSurface::Ceiling => self.height,
@@ -298,6 +330,7 @@ impl AnalyticRoom {
             s,
             surface,
             point,
+            tangent,
             height,
         })
     }
@@ -489,6 +522,25 @@ mod tests {
             prop_assert!((along - at).abs() < 1e-9, "{along} {at}");
             let expected = mirrors.iter().position(|m| m.covers(along, height));
             prop_assert_eq!(room.mirror_at(0, point, height).map(|(i, _)| i), expected);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn a_wall_s_cos_and_sin_are_those_of_its_crossing(
+            g in 0usize..3,
+            (a, b) in (-1.0f64..2.0, -2.0f64..2.0),
+        ) {
+            // What `exit` puts the wall's point and tangent together from, without σ.
+            let space = Space::new([Geometry::Spherical, Geometry::Euclidean, Geometry::Hyperbolic][g]);
+            let (Some(sigma), Some((c, s))) = (line_crossing(space, a, b), crossing_cos_sin(space, a, b)) else {
+                return Ok(());
+            };
+            let (c0, s0) = space.cos_sin(sigma);
+            // As close as σ's own rounding lets them be (its derivative grows as the ray
+            // nears the line's asymptote in H²).
+            let slack = 1e-14 * (1.0 + c0.abs() + s0.abs()).powi(2);
+            prop_assert!((c - c0).abs() <= slack && (s - s0).abs() <= slack, "{c} {s} vs {c0} {s0}");
         }
     }
 

@@ -65,6 +65,8 @@ pub struct Hit {
     pub surface: SurfaceId,
     /// Ambient horizontal position.
     pub point: DVec3,
+    /// The ray's unit horizontal tangent there (before any reflection; [`Ray::continued`]).
+    pub tangent: DVec3,
     /// Height.
     pub height: f64,
     /// For an object, the triangle and barycentric coordinates.
@@ -197,11 +199,12 @@ impl Tracer {
         let exit = self.room.exit(ray);
         let limit = exit.map_or(f64::INFINITY, |e| e.s);
         if let Some((i, t)) = self.objects.intersect(space, ray, 0.0, limit) {
-            let (point, height) = ray.point_at(space, t.s);
+            let (point, tangent, height) = ray.point_and_tangent_at(space, t.s);
             return Some(Hit {
                 s: t.s,
                 surface: SurfaceId::Object(i),
                 point,
+                tangent,
                 height,
                 triangle: Some((t.triangle, t.barycentric)),
             });
@@ -210,6 +213,7 @@ impl Tracer {
             s: e.s,
             surface: e.surface.into(),
             point: e.point,
+            tangent: e.tangent,
             height: e.height,
             triangle: None,
         })
@@ -268,7 +272,7 @@ impl Tracer {
                 throughput,
             });
             ray = ray
-                .advanced(space, hit.s)
+                .continued(space, hit.s, hit.point, hit.tangent)
                 .reflected(space, self.room.wall_form_at(wall, hit.point));
         }
     }
