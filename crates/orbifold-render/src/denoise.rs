@@ -35,7 +35,6 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::fastmath::exp_fast;
 use crate::film::{Film, Splat, luminance};
 use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
@@ -778,7 +777,7 @@ impl Guide<'_> {
                         kx * ky
                     } else {
                         let light = -(centre[k] - luminance(part.lighting[j])).abs() / tolerance[k];
-                        kx * ky * exp_fast(sharpness[k] * normal + others + light)
+                        kx * ky * (sharpness[k] * normal + others + light).exp()
                     };
                     // NaN weights (from NaN guides) and unsampled neighbours are skipped.
                     let usable = w > 0.0 && (j == i || part.variance[j].is_finite());

@@ -90,53 +90,9 @@ pub(crate) fn asinh_fast(x: f64) -> f64 {
     ln_fast(a + (a * a + 1.0).sqrt()).copysign(x)
 }
 
-/// Relative error bound of [`exp_fast`] (checked by its test; the denoiser's weights, which
-/// it computes, need only agree with themselves).
-#[cfg(test)]
-const EXP_FAST_ERROR: f64 = 1e-8;
-
-/// e^x for x ≤ 0 (the denoiser's weights: a product of falloffs, summed in the log) to within a
-/// relative [`EXP_FAST_ERROR`]; 0 below −708, where e^x leaves the normal numbers, and for NaN.
-/// x = n·ln 2 + r with |r| ≤ ½ ln 2, e^r by its Taylor series to r⁷ (the rest is below 5e-9),
-/// and 2^n put into the exponent bits. Straight-line code that the filter's loop can inline:
-/// libm's `exp` was a third of the denoiser's time.
-#[inline(always)]
-pub(crate) fn exp_fast(x: f64) -> f64 {
-    use std::f64::consts::{LN_2, LOG2_E};
-    if x.is_nan() || x < -708.0 {
-        return 0.0;
-    }
-    let x = x.min(0.0);
-    let n = (x * LOG2_E).round();
-    let r = n.mul_add(-LN_2, x);
-    let series = 1.0
-        + r * (1.0
-            + r * (1.0 / 2.0
-                + r * (1.0 / 6.0
-                    + r * (1.0 / 24.0
-                        + r * (1.0 / 120.0 + r * (1.0 / 720.0 + r * (1.0 / 5040.0)))))));
-    series * f64::from_bits(((n as i64 + 1023) as u64) << 52)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fast_exp_is_within_its_bound() {
-        let mut worst: f64 = 0.0;
-        for i in 0..=2_000_000 {
-            let x = -708.0 * f64::from(i) / 2_000_000.0;
-            for x in [x, x.next_down().max(-708.0)] {
-                worst = worst.max((exp_fast(x) / x.exp() - 1.0).abs());
-            }
-        }
-        assert!(worst < EXP_FAST_ERROR, "{worst:e}");
-        assert_eq!(exp_fast(0.0), 1.0);
-        assert_eq!(exp_fast(-1000.0), 0.0);
-        assert_eq!(exp_fast(f64::NAN), 0.0);
-        assert_eq!(exp_fast(f64::NEG_INFINITY), 0.0);
-    }
 
     #[test]
     fn fast_asinh_is_accurate() {
