@@ -264,6 +264,11 @@ pub(crate) struct RayFrame {
     inv_sa: f64,
     level: bool,
     vertical: bool,
+    /// p × u (Euclidean cross product): the normal of the plane through the origin that cuts
+    /// the ray's horizontal geodesic out of the model surface (the gnomonic picture, where
+    /// geodesics are straight), and its Euclidean length.
+    plane: DVec3,
+    plane_length: f64,
 }
 
 impl RayFrame {
@@ -276,6 +281,7 @@ impl RayFrame {
         };
         let p = ray.origin;
         let v = space.quarter_turn(p, u);
+        let plane = p.cross(u);
         RayFrame {
             kappa: space.kappa(),
             p,
@@ -290,7 +296,25 @@ impl RayFrame {
             inv_sa: 1.0 / ray.sin_elevation,
             level: ray.sin_elevation == 0.0,
             vertical: ca == 0.0,
+            plane,
+            plane_length: plane.length(),
         }
+    }
+
+    /// Whether the ray's horizontal geodesic certainly misses the geodesic convex hull of three
+    /// points, each at least `margin` × its distance scale from the geodesic's plane through
+    /// the origin: they are all strictly on one side of it, and so is every nonnegative
+    /// combination of them. `scale` is the largest Euclidean length of the points. Never true for
+    /// a vertical ray (whose horizontal geodesic is a point).
+    #[inline(always)]
+    pub(crate) fn misses_hull(&self, points: &[DVec3; 3], scale: f64) -> bool {
+        /// Far above the slack that the triangle test allows on an edge (1e-12, relative), so
+        /// that no hit that test would accept is rejected here.
+        const MARGIN: f64 = 1e-9;
+        let tolerance = MARGIN * self.plane_length * scale;
+        let side = points.map(|q| self.plane.dot(q));
+        !self.vertical
+            && (side.iter().all(|&d| d > tolerance) || side.iter().all(|&d| d < -tolerance))
     }
 
     #[inline(always)]
@@ -1357,6 +1381,55 @@ mod tests {
                 met > cases / 6 && missed > cases / 6,
                 "{g:?}: {met} met, {missed} missed"
             );
+        }
+    }
+
+    /// The side test never rejects a triangle whose footprint holds a point of the ray's
+    /// horizontal geodesic (small triangles too, where the margin matters), and always rejects
+    /// one that lies wholly beside it.
+    #[test]
+    fn the_side_test_keeps_triangles_on_the_geodesic_and_rejects_those_beside_it() {
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let mut rnd = uniforms(99);
+            for _ in 0..20_000 {
+                let origin = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * 3.0);
+                let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
+                let ray = Ray::new(space, origin, dir, rnd(), 1.4 * (rnd() - 0.5));
+                let frame = RayFrame::new(space, &ray);
+                // A point of the horizontal geodesic, ahead or behind, and the geodesic's unit
+                // tangent and normal there.
+                let sigma = 4.0 * (rnd() - 0.5);
+                let (c, s) = space.cos_sin(sigma);
+                let (p, u) = (frame.origin(), frame.direction());
+                let x = p * c + u * s;
+                let along = u * c - p * (space.kappa() * s);
+                let across = space.quarter_turn(x, along);
+                let r = 10f64.powf(-6.0 * rnd()) * 0.3;
+                let start = std::f64::consts::TAU * rnd();
+                let mut triangle_around = |centre: DVec3| -> [DVec3; 3] {
+                    std::array::from_fn(|i| {
+                        let angle = start + std::f64::consts::TAU * (i as f64 + 0.3 * rnd()) / 3.0;
+                        let t = along * angle.cos() + across * angle.sin();
+                        space.exp(centre, t * r)
+                    })
+                };
+                let scale = |t: &[DVec3; 3]| t.iter().map(|q| q.length()).fold(0.0, f64::max);
+                let on = triangle_around(x);
+                assert!(
+                    !frame.misses_hull(&on, scale(&on)),
+                    "{g:?}: {on:?} was rejected"
+                );
+                let beside = triangle_around(space.exp(x, across * (2.5 * r)));
+                assert!(
+                    frame.misses_hull(&beside, scale(&beside)),
+                    "{g:?}: {beside:?} was kept"
+                );
+            }
         }
     }
 }
