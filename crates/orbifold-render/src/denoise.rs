@@ -273,14 +273,25 @@ impl Guides {
         for (s, _) in samples {
             self.index(s.x, s.y);
         }
+        let mut changed = (filter == self.filter).then(|| vec![false; self.own.len()]);
         self.filter = filter;
         for (s, first) in samples {
             let i = self.index(s.x, s.y);
             if let Some(path) = GuidePath::new(first, s.radiance) {
                 self.own[i].add(&path, 1.0);
+                if let Some(changed) = &mut changed {
+                    changed[i] = true;
+                }
             }
         }
-        self.filter_all();
+        self.filter.filter_changed(
+            &self.own,
+            &mut self.pixels,
+            (self.width, self.height),
+            changed.as_deref(),
+            |p| p.weight,
+            GuideSums::merge_scaled,
+        );
     }
 
     /// The pixels' filtered sums afresh from their own.

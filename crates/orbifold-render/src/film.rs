@@ -339,8 +339,8 @@ impl Film {
         self.add_at(own, radiance);
     }
 
-    /// [`Film::splat`] for many samples at once (the pixels are filtered once, in parallel over
-    /// rows, at the end).
+    /// [`Film::splat`] for many samples at once (the pixels near the samples' pixels are
+    /// filtered afresh once, in parallel over rows, at the end; the others keep their value).
     ///
     /// # Panics
     ///
@@ -365,6 +365,7 @@ impl Film {
         for s in samples {
             self.index(s.x, s.y);
         }
+        let mut changed = (filter == self.filter).then(|| vec![false; self.own.len()]);
         self.filter = filter;
         for s in samples {
             if !s.radiance.iter().all(|c| c.is_finite()) {
@@ -374,8 +375,18 @@ impl Film {
             let i = self.index(s.x, s.y);
             self.count[i] += 1;
             self.own[i].add(s.radiance, 1.0);
+            if let Some(changed) = &mut changed {
+                changed[i] = true;
+            }
         }
-        self.filter_all();
+        self.filter.filter_changed(
+            &self.own,
+            &mut self.pixels,
+            (self.width, self.height),
+            changed.as_deref(),
+            |p| p.weight,
+            |into, from, factor| into.merge(&from.scaled(factor)),
+        );
     }
 
     /// Adds one sample to every pixel of row `y`: `row[x]` goes to pixel (x, y). Convenient with

@@ -381,15 +381,25 @@ impl<'a> Progressive<'a> {
         buffers
             .splats
             .extend(buffers.samples.iter().map(|(s, _)| *s));
-        self.film.splat_all(&buffers.splats, options.filter);
-        self.guides.splat_all(&buffers.samples, options.filter);
-        if let Some(cache) = &mut self.cache {
-            buffers.deposits.clear();
-            buffers
-                .deposits
-                .extend(results.iter().filter_map(|(_, v)| v.deposit));
-            cache.add_all(&buffers.deposits);
-        }
+        // The film and the guides on one side, the radiance cache (its levels in parallel) on
+        // the other: three independent sums, so that neither thread waits while the other
+        // adds. Each is summed in pixel order as before.
+        let (film, guides, cache) = (&mut self.film, &mut self.guides, &mut self.cache);
+        let (splats, samples, deposits) =
+            (&buffers.splats, &buffers.samples, &mut buffers.deposits);
+        rayon::join(
+            || {
+                film.splat_all(splats, options.filter);
+                guides.splat_all(samples, options.filter);
+            },
+            || {
+                if let Some(cache) = cache {
+                    deposits.clear();
+                    deposits.extend(results.iter().filter_map(|(_, v)| v.deposit));
+                    cache.add_all(deposits);
+                }
+            },
+        );
         self.total += results.len() as u64;
         self.rays += results.iter().map(|(_, v)| u64::from(v.rays)).sum::<u64>();
     }

@@ -519,3 +519,65 @@ fn the_noise_of_light_seen_directly_counts_as_noise_the_filter_leaves() {
     let seen = guides.emitted(x, y)[0];
     assert!((clean.pixel(x, y)[0] - seen - 0.24).abs() < 0.02);
 }
+
+/// Rounds of paths added at once, which filter afresh only the pixels near the ones that got
+/// paths, leave the guides exactly as the paths added one by one (each refiltering its
+/// neighbourhood) do: every pixel's albedo, light seen directly, light sample and standard
+/// errors, to the bit, over rounds of a few pixels and of all of them.
+#[test]
+fn rounds_of_paths_refilter_exactly_the_guides_they_change() {
+    let (w, h) = (9u32, 7u32);
+    for seed in 0..40u64 {
+        let mut rng = Sampler::new(seed, 0, 0);
+        let (mut at_once, mut one_by_one) = (Guides::new(w, h), Guides::new(w, h));
+        for _ in 0..4 {
+            let share = if rng.next_f64() < 0.3 {
+                1.0
+            } else {
+                0.3 * rng.next_f64()
+            };
+            let mut paths = Vec::new();
+            for y in 0..h {
+                for x in 0..w {
+                    if rng.next_f64() < share || (x, y) == (w / 2, h / 2) {
+                        let v = rng.next_f64();
+                        let first = FirstHit {
+                            albedo: [v, 0.5, 1.0 - v],
+                            normal: DVec3::new(v, 1.0, 0.2).normalize(),
+                            depth: 1.0 + v,
+                            emitted: [0.1 * v; 3],
+                            direct: [0.3 * v; 3],
+                        };
+                        let splat = orbifold_render::film::Splat {
+                            x,
+                            y,
+                            radiance: [2.0 * v; 3],
+                        };
+                        paths.push((splat, first));
+                    }
+                }
+            }
+            at_once.splat_all(&paths, PixelFilter::GAUSSIAN);
+            for (s, first) in &paths {
+                one_by_one.splat(s.x, s.y, first, s.radiance, PixelFilter::GAUSSIAN);
+            }
+            for y in 0..h {
+                for x in 0..w {
+                    let pixel = |g: &Guides| {
+                        (
+                            g.albedo(x, y),
+                            g.emitted(x, y),
+                            g.direct(x, y),
+                            g.part_errors(x, y),
+                        )
+                    };
+                    assert_eq!(
+                        pixel(&at_once),
+                        pixel(&one_by_one),
+                        "seed {seed}, ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}

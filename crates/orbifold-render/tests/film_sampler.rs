@@ -1008,3 +1008,49 @@ fn stratified_streams_are_uniform_reproducible_and_aligned_per_bounce() {
         Sampler::stratified(1, 9, 3).next_f64()
     );
 }
+
+/// Random samples for some random pixels of a `w` × `h` image, in pixel order (as a render's
+/// round adds them): a round over a few of the pixels (the middle one always), or over all.
+fn round_of_splats(rng: &mut Sampler, w: u32, h: u32) -> Vec<orbifold_render::film::Splat> {
+    let share = if rng.next_f64() < 0.3 {
+        1.0
+    } else {
+        rng.next_f64() * 0.3
+    };
+    let mut splats = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            if rng.next_f64() < share || (x, y) == (w / 2, h / 2) {
+                let v = rng.next_f64() * 4.0;
+                splats.push(orbifold_render::film::Splat {
+                    x,
+                    y,
+                    radiance: [v, 0.5 * v, 1.0],
+                });
+            }
+        }
+    }
+    splats
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// Rounds added at once, which filter afresh only the pixels near the ones that got
+    /// samples, leave the film exactly as the samples added one by one (each refiltering its
+    /// neighbourhood) do, under either filter and when the filter changes between rounds.
+    #[test]
+    fn rounds_refilter_exactly_the_pixels_they_change(seed in 0u64..10_000, rounds in 1usize..6) {
+        let (w, h) = (9u32, 7u32);
+        let mut rng = Sampler::new(seed, 0, 0);
+        let (mut at_once, mut one_by_one) = (Film::new(w, h), Film::new(w, h));
+        for _ in 0..rounds {
+            let filter = if rng.next_f64() < 0.8 { PixelFilter::GAUSSIAN } else { PixelFilter::Box };
+            let splats = round_of_splats(&mut rng, w, h);
+            at_once.splat_all(&splats, filter);
+            for s in &splats {
+                one_by_one.splat(s.x, s.y, s.radiance, filter);
+            }
+            prop_assert!(at_once == one_by_one, "the films differ");
+        }
+    }
+}
