@@ -365,22 +365,26 @@ impl<'a> Progressive<'a> {
         }
         let results = &buffers.results;
         // In pixel order, so in row order as splatting wants.
-        buffers.samples.clear();
-        buffers.samples.extend(results.iter().map(|(pixel, value)| {
-            let splat = Splat {
-                x: (pixel % u64::from(width)) as u32,
-                y: (pixel / u64::from(width)) as u32,
-                radiance: value.radiance,
-            };
-            (splat, value.first)
-        }));
+        // Copied out in parallel (in order: `collect_into_vec` keeps it).
+        results
+            .par_iter()
+            .map(|(pixel, value)| {
+                let splat = Splat {
+                    x: (pixel % u64::from(width)) as u32,
+                    y: (pixel / u64::from(width)) as u32,
+                    radiance: value.radiance,
+                };
+                (splat, value.first)
+            })
+            .collect_into_vec(&mut buffers.samples);
         for (pixel, _) in results {
             self.taken[*pixel as usize] += 1;
         }
-        buffers.splats.clear();
         buffers
-            .splats
-            .extend(buffers.samples.iter().map(|(s, _)| *s));
+            .samples
+            .par_iter()
+            .map(|(s, _)| *s)
+            .collect_into_vec(&mut buffers.splats);
         // The film and the guides on one side, the radiance cache (its levels in parallel) on
         // the other: three independent sums, so that neither thread waits while the other
         // adds. Each is summed in pixel order as before.
