@@ -181,13 +181,8 @@ fn footprint(c: &mut Criterion) {
                 Ray::from_model(space, z, 0.5, t * 0.37, 0.2 * (t * 0.31).sin())
             })
             .collect();
-        let sphere = Sphere {
-            centre: space.to_ambient(num_complex::Complex64::new(0.05, -0.02)),
-            height: 0.85,
-            radius: 0.05,
-            clearance: 0.4,
-            headroom: 0.15,
-        };
+        let centre = space.to_ambient(num_complex::Complex64::new(0.05, -0.02));
+        let sphere = Sphere::new(space, centre, 0.85, 0.05, 0.4, 0.15);
         group.throughput(Throughput::Elements(rays.len() as u64));
         group.bench_function(format!("sphere coverage {name}"), |b| {
             b.iter(|| {

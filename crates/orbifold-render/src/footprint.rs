@@ -106,18 +106,79 @@ impl Footprint {
 }
 
 /// A sphere light as the footprint sees it.
+///
+/// ```
+/// use glam::DVec3;
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::footprint::Sphere;
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// let sphere = Sphere::new(h2, DVec3::Z, 0.5, 0.1, 0.4, 0.5);
+/// assert_eq!((sphere.radius(), sphere.clearance()), (0.1, 0.4));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    centre: DVec3,
+    height: f64,
+    radius: f64,
+    clearance: f64,
+    /// S_κ(clearance), or ∞ where no geodesic is that far across (S² beyond π/2): what a ray's
+    /// sine of the centre's offset across it is measured against, with no inverse sine for
+    /// the many stretches that pass far from the light.
+    clearance_sine: f64,
+    headroom: f64,
+}
+
+impl Sphere {
+    /// The sphere light centred at the ambient point `centre` and `height`, of outline radius
+    /// `radius`, `clearance` (horizontal distance) from the nearest wall and `headroom`
+    /// (vertical) from the floor or the ceiling, whichever is nearer.
+    pub fn new(
+        space: Space,
+        centre: DVec3,
+        height: f64,
+        radius: f64,
+        clearance: f64,
+        headroom: f64,
+    ) -> Sphere {
+        let clearance_sine = if space.kappa() > 0.0 && clearance >= std::f64::consts::FRAC_PI_2 {
+            f64::INFINITY
+        } else {
+            space.sin(clearance)
+        };
+        Sphere {
+            centre,
+            height,
+            radius,
+            clearance,
+            clearance_sine,
+            headroom,
+        }
+    }
+
     /// Ambient horizontal position of the centre.
-    pub centre: DVec3,
+    pub fn centre(&self) -> DVec3 {
+        self.centre
+    }
+
     /// Height of the centre.
-    pub height: f64,
+    pub fn height(&self) -> f64 {
+        self.height
+    }
+
     /// Radius of the outline.
-    pub radius: f64,
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
     /// Horizontal distance from the centre to the nearest wall.
-    pub clearance: f64,
+    pub fn clearance(&self) -> f64 {
+        self.clearance
+    }
+
     /// Vertical distance from the centre to the floor or the ceiling, whichever is nearer.
-    pub headroom: f64,
+    pub fn headroom(&self) -> f64 {
+        self.headroom
+    }
 }
 
 /// What a sphere light looks like to a camera ray along one straight stretch (between mirrors).
@@ -201,7 +262,7 @@ fn below(a: f64, b: f64, y: f64, r: f64) -> f64 {
 /// // covers π·0.01²/0.1² of it.
 /// let centre = DVec3::new(10.0, 0.0, 1.0);
 /// let far = f64::INFINITY;
-/// let sphere = Sphere { centre, height: 0.5, radius: 0.01, clearance: far, headroom: far };
+/// let sphere = Sphere::new(e2, centre, 0.5, 0.01, far, far);
 /// let Glimpse::Covered(c) = sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 20.0, 0.0) else {
 ///     panic!()
 /// };
@@ -221,7 +282,13 @@ pub fn sphere_coverage(
         s,
         across: lateral,
         up: vertical,
-    }) = closest_approach(space, ray, sphere.centre, sphere.height, sphere.clearance)
+    }) = closest_approach(
+        space,
+        ray,
+        sphere.centre,
+        sphere.height,
+        sphere.clearance_sine,
+    )
     else {
         return Glimpse::Unresolved;
     };
@@ -283,13 +350,14 @@ pub(crate) struct Approach {
 /// The closest approach of a ray to the point (`centre`, `height`): the foot of the horizontal
 /// perpendicular (S(d⊥) = ⟨c − p, v⟩ across the horizontal geodesic, C(d⊥)·S(σ) = ⟨c − p, u⟩
 /// along it), then the nearest point in the flat vertical plane over the geodesic. `None` when
-/// the point is `within` or farther across (tested before the costlier part).
+/// the point is as far across as the distance whose S_κ is `within_sine` or farther (tested
+/// before the costlier part).
 pub(crate) fn closest_approach(
     space: Space,
     ray: &Ray,
     centre: DVec3,
     height: f64,
-    within: f64,
+    within_sine: f64,
 ) -> Option<Approach> {
     let k = space.kappa();
     let (ca, sa) = (ray.cos_elevation, ray.sin_elevation);
@@ -300,15 +368,16 @@ pub(crate) fn closest_approach(
     let d = centre - p;
     let gamma = space.point_dot(d, v);
     let along = space.point_dot(d, u);
-    // A camera ray meets the light in a few of its stretches: the fast logarithm for the rest.
+    // A camera ray meets the light in a few of its stretches: those that pass far from it
+    // are told by the sine (S_κ is increasing), and the rest take the fast logarithm.
+    if gamma.abs() >= within_sine || gamma.is_nan() {
+        return None;
+    }
     let lateral = if k < 0.0 {
         asinh_fast(gamma)
     } else {
         space.asin(gamma)
     };
-    if lateral.abs() >= within || lateral.is_nan() {
-        return None;
-    }
     let m = (1.0 - k * gamma * gamma).max(0.0).sqrt();
     let sigma = if k > 0.0 {
         along.atan2(space.point_dot(centre, p) / k)
@@ -361,7 +430,7 @@ mod tests {
                     let dz = ((f64::from(j) + 0.5) / f64::from(n) * 2.0 - 1.0) * reach;
                     let ray = Ray::new(e2, DVec3::new(0.0, dy, 1.0), DVec3::X, 0.5 + dz, 0.0);
                     let centre = DVec3::new(distance, 0.0, 1.0);
-                    let sphere = Sphere { centre, height: 0.5, radius: r, clearance: f64::INFINITY, headroom: f64::INFINITY };
+                    let sphere = Sphere::new(e2, centre, 0.5, r, f64::INFINITY, f64::INFINITY);
                     match sphere_coverage(e2, &ray, 0.0, &footprint, &sphere, 100.0, 0.0) {
                         Glimpse::Covered(c) => total += c,
                         Glimpse::Unresolved => prop_assert!(false, "resolved by the footprint"),
@@ -425,13 +494,14 @@ mod tests {
             let width = pixel * distance;
             let (q, h) = centre_ray.point_at(space, distance);
             let left = space.quarter_turn(q, centre_ray.tangent_at(space, distance * centre_ray.cos_elevation));
-            let sphere = Sphere {
-                centre: space.exp(q, left * (off.0 * width)),
-                height: h + off.1 * width,
-                radius: radius * width,
-                clearance: f64::INFINITY,
-                headroom: f64::INFINITY,
-            };
+            let sphere = Sphere::new(
+                space,
+                space.exp(q, left * (off.0 * width)),
+                h + off.1 * width,
+                radius * width,
+                f64::INFINITY,
+                f64::INFINITY,
+            );
             let share = |ray: &Ray, footprint: &Footprint| {
                 match sphere_coverage(space, ray, 0.0, footprint, &sphere, 10.0, 0.0) {
                     Glimpse::Covered(c) => c,
@@ -458,7 +528,13 @@ mod tests {
             let across = space.quarter_turn(q, ray.tangent_at(space, ahead * ray.cos_elevation));
             let centre = space.exp(q, across * off);
             let height = h + lift;
-            let approach = closest_approach(space, &ray, centre, height, 1.0).unwrap();
+            // Refused exactly when the centre is `within` or farther across (it is |off| across).
+            let within = 0.04 * (yaw * 7.0).fract();
+            if (off.abs() - within).abs() > 1e-9 {
+                let seen = closest_approach(space, &ray, centre, height, space.sin(within));
+                prop_assert_eq!(seen.is_some(), off.abs() < within);
+            }
+            let approach = closest_approach(space, &ray, centre, height, space.sin(1.0)).unwrap();
             let distance = |s: f64| {
                 let (p, hp) = ray.point_at(space, s);
                 space.ambient_distance(p, centre).hypot(hp - height)
@@ -485,13 +561,14 @@ mod tests {
     fn level(x: f64, radius: f64) -> (Space, Ray, Sphere) {
         let e2 = Space::new(Geometry::Euclidean);
         let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
-        let sphere = Sphere {
-            centre: DVec3::new(x, 0.0, 1.0),
-            height: 0.5,
+        let sphere = Sphere::new(
+            e2,
+            DVec3::new(x, 0.0, 1.0),
+            0.5,
             radius,
-            clearance: f64::INFINITY,
-            headroom: f64::INFINITY,
-        };
+            f64::INFINITY,
+            f64::INFINITY,
+        );
         (e2, ray, sphere)
     }
 
@@ -533,10 +610,14 @@ mod tests {
             assert_eq!(glimpse, Glimpse::Unresolved, "{footprint:?}");
         }
         // A light touching a wall: the capped width is negative.
-        let touching = Sphere {
-            clearance: 0.005,
-            ..sphere
-        };
+        let touching = Sphere::new(
+            e2,
+            sphere.centre,
+            sphere.height,
+            sphere.radius,
+            0.005,
+            sphere.headroom,
+        );
         let glimpse = sphere_coverage(e2, &ray, 0.0, &square(0.1), &touching, 20.0, 0.0);
         assert_eq!(glimpse, Glimpse::Unresolved);
     }

@@ -935,13 +935,15 @@ impl Integrator {
                     .iter()
                     .map(|w| space.asin(w.form.dot(light.position)).abs())
                     .fold(f64::INFINITY, f64::min);
-                let sphere = Sphere {
-                    centre: light.position,
-                    height: light.height,
+                let headroom = light.height.min(room.height - light.height);
+                let sphere = Sphere::new(
+                    space,
+                    light.position,
+                    light.height,
                     radius,
                     clearance,
-                    headroom: light.height.min(room.height - light.height),
-                };
+                    headroom,
+                );
                 Some((l, sphere, radiance))
             })
             .collect()
@@ -1367,7 +1369,7 @@ impl Integrator {
         for &(l, ref sphere, radiance) in &self.spheres {
             let struck =
                 matches!(near, Some(Near { struck: Struck::Light(hit, ..), .. }) if *hit == l);
-            let slack = if struck { 2.0 * sphere.radius } else { 0.0 };
+            let slack = if struck { 2.0 * sphere.radius() } else { 0.0 };
             let glimpse = sphere_coverage(
                 space,
                 &march.ray,

@@ -19,7 +19,7 @@
 //! direct light's ([`ImageSet::new`]); so point lights light the room through mirrors, and area
 //! lights converge without waiting for random hits.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 
@@ -230,7 +230,9 @@ pub struct Image {
 pub struct ImageSet {
     /// The images, the identity first, by depth.
     pub images: Vec<Image>,
-    lookup: HashMap<[i64; 3], Vec<usize>>,
+    /// The images by the cell of their keys ([`ImageSet::cell`]; a small integer key, for
+    /// which a multiplicative hash does).
+    lookup: FxHashMap<[i64; 3], Vec<usize>>,
     centre: DVec3,
 }
 
@@ -295,7 +297,7 @@ impl ImageSet {
                 reflectance: [1.0; 3],
                 depth: 0,
             }],
-            lookup: HashMap::new(),
+            lookup: FxHashMap::default(),
             centre,
         };
         set.insert_key(0);
@@ -331,8 +333,14 @@ impl ImageSet {
         set
     }
 
+    /// The lookup cell of a key: its coordinates in steps of 1e-4, rounded half away from zero
+    /// by casts (`f64::round` is a library call on baseline x86-64, and a lookup rounds nine
+    /// times). Any monotone rounding would do: [`ImageSet::find`] relies on that alone.
     fn cell(key: DVec3) -> [i64; 3] {
-        [key.x, key.y, key.z].map(|v| (v * 1e4).round() as i64)
+        [key.x, key.y, key.z].map(|v| {
+            let steps = ((v * 1e4).abs() + 0.5) as i64;
+            if v < 0.0 { -steps } else { steps }
+        })
     }
 
     fn insert_key(&mut self, index: usize) {
@@ -340,27 +348,32 @@ impl ImageSet {
         self.lookup.entry(cell).or_default().push(index);
     }
 
-    /// The image whose tile has centre `key` (within 1e-7), if enumerated.
+    /// The image whose tile has centre `key` (within 1e-7 (1 + |key|)), if enumerated.
     pub fn find(&self, key: DVec3) -> Option<usize> {
         // Long chains of reflections in H² reach points far out on the hyperboloid, whose cells
         // saturate: no image is there.
         if !key.is_finite() {
             return None;
         }
-        let [a, b, c] = Self::cell(key);
-        for da in -1..=1 {
-            for db in -1..=1 {
-                for dc in -1..=1 {
-                    let cell = [
-                        a.saturating_add(da),
-                        b.saturating_add(db),
-                        c.saturating_add(dc),
-                    ];
-                    if let Some(list) = self.lookup.get(&cell) {
-                        for &i in list {
-                            if (self.images[i].key - key).length() < 1e-7 * (1.0 + key.length()) {
-                                return Some(i);
-                            }
+        let tolerance = 1e-7 * (1.0 + key.length());
+        // Only the cells within the tolerance of the key (nearly always its own alone; a key
+        // within the tolerance of a cell's edge also looks across it), at most one cell away.
+        let centre = Self::cell(key);
+        let low = Self::cell(key - DVec3::splat(tolerance));
+        let high = Self::cell(key + DVec3::splat(tolerance));
+        let span = |axis: usize| {
+            low[axis].max(centre[axis].saturating_sub(1))
+                ..=high[axis].min(centre[axis].saturating_add(1))
+        };
+        for a in span(0) {
+            for b in span(1) {
+                for c in span(2) {
+                    let Some(list) = self.lookup.get(&[a, b, c]) else {
+                        continue;
+                    };
+                    for &i in list {
+                        if (self.images[i].key - key).length() < tolerance {
+                            return Some(i);
                         }
                     }
                 }
@@ -1258,6 +1271,61 @@ pub(crate) fn mesh_emitter(
 mod tests {
     use super::*;
     use orbifold_scene::{LightKind, Scene};
+
+    /// An image set of the identity at each of `keys`, looked up as [`ImageSet::new`] does.
+    fn set_of(keys: &[DVec3]) -> ImageSet {
+        let image = |key| Image {
+            isometry: DMat3::IDENTITY,
+            inverse: DMat3::IDENTITY,
+            key,
+            reflectance: [1.0; 3],
+            depth: 0,
+        };
+        let mut set = ImageSet {
+            images: keys.iter().copied().map(image).collect(),
+            lookup: FxHashMap::default(),
+            centre: keys[0],
+        };
+        (0..keys.len()).for_each(|i| set.insert_key(i));
+        set
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn find_sees_a_key_from_across_cell_edges_and_no_further(
+            corner in proptest::array::uniform3(-30_000i64..30_000),
+            offset in proptest::array::uniform3(-1.0f64..1.0),
+            delta in proptest::array::uniform3(-1.0f64..1.0),
+        ) {
+            // A key within a tolerance of a corner of the lookup cells (1e-4 wide), looked up
+            // from points on every side of it within the tolerance (often in another cell).
+            let corner = DVec3::from(corner.map(|c| (c as f64 + 0.5) * 1e-4));
+            let tolerance = 1e-7 * (1.0 + corner.length());
+            let key = corner + DVec3::from(offset) * tolerance / 3.0_f64.sqrt();
+            let set = set_of(&[key]);
+            let delta = DVec3::from(delta);
+            let step = delta.normalize_or(DVec3::X) * delta.length().min(1.0);
+            proptest::prop_assert_eq!(set.find(key + step * 0.99 * tolerance), Some(0));
+            proptest::prop_assert_eq!(set.find(key + step.normalize_or(DVec3::X) * 3.0 * tolerance), None);
+        }
+    }
+
+    #[test]
+    fn every_image_is_found_by_its_key() {
+        for signature in ["*235", "*2222", "*444", "*2223"] {
+            let layout = orbifold::Layout::new(
+                &signature.parse().unwrap(),
+                &orbifold::LayoutOptions::default(),
+            )
+            .unwrap();
+            let room = crate::room::AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3]).unwrap();
+            let set = ImageSet::new(&room, room.space.to_ambient(layout.centre));
+            assert!(set.images.len() > 40, "{signature}");
+            for (i, image) in set.images.iter().enumerate() {
+                assert_eq!(set.find(image.key), Some(i), "{signature} image {i}");
+            }
+        }
+    }
 
     /// The sphere light of radius 0.1 over the centre of `signature`'s default room, and the
     /// room's space.
