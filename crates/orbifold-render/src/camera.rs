@@ -115,7 +115,7 @@ impl Camera {
             at(u, v),
         );
         let bearing = |d: DVec3| d.y.atan2(d.x);
-        let elevation = |d: DVec3| d.z.atan2(d.x.hypot(d.y));
+        let elevation = |d: DVec3| d.z.atan2((d.x * d.x + d.y * d.y).sqrt());
         let turn = (bearing(centre) - bearing(ray) + PI).rem_euclid(2.0 * PI) - PI;
         Footprint {
             across: angle(at(u - 0.5 / w, v), at(u + 0.5 / w, v)),
@@ -151,12 +151,13 @@ impl Camera {
     /// The ray from the eye along a direction of the local frame (model +x, model +y, up).
     pub fn ray_along(&self, local: DVec3) -> Ray {
         let horizontal = self.frame[0] * local.x + self.frame[1] * local.y;
-        let elevation = local.z.atan2(local.x.hypot(local.y));
-        if local.x.hypot(local.y) == 0.0 {
+        let run = (local.x * local.x + local.y * local.y).sqrt();
+        if run == 0.0 {
             // Straight up or down: any horizontal direction will do.
-            return Ray::new(self.space, self.eye, self.frame[0], self.height, elevation);
+            let rise = local.z.signum();
+            return Ray::climbing(self.space, self.eye, self.frame[0], self.height, 0.0, rise);
         }
-        Ray::new(self.space, self.eye, horizontal, self.height, elevation)
+        Ray::climbing(self.space, self.eye, horizontal, self.height, run, local.z)
     }
 
     /// The eye's ambient position and height.

@@ -58,6 +58,37 @@ impl Ray {
         .renormalized(space)
     }
 
+    /// A ray from an ambient point along a horizontal tangent (any nonzero length) that climbs
+    /// `rise` for every `run` it goes horizontally (`run` ≥ 0, not both 0): the elevation by
+    /// its cosine and sine, with no arc tangent to take.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use orbifold::{Geometry, space::Space};
+    /// use orbifold_render::geodesic::Ray;
+    /// let h2 = Space::new(Geometry::Hyperbolic);
+    /// let ray = Ray::climbing(h2, DVec3::Z, DVec3::X, 0.5, 3.0, 4.0);
+    /// assert!((ray.cos_elevation - 0.6).abs() < 1e-15 && (ray.sin_elevation - 0.8).abs() < 1e-15);
+    /// ```
+    pub fn climbing(
+        space: Space,
+        origin: DVec3,
+        horizontal: DVec3,
+        height: f64,
+        run: f64,
+        rise: f64,
+    ) -> Ray {
+        // `renormalized` scales them to a unit pair.
+        Ray {
+            origin,
+            direction: horizontal,
+            height,
+            cos_elevation: run,
+            sin_elevation: rise,
+        }
+        .renormalized(space)
+    }
+
     /// A ray from the model point `z` at `height` with bearing `yaw` (radians, counter-clockwise
     /// from the model's +x direction) and elevation `pitch` (radians), as cameras use them
     /// (DESIGN.md §8).

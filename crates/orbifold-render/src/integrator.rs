@@ -223,7 +223,7 @@ impl Texture {
                     // the footprint's (the parallelogram ±a ± b around the pixel's centre): a
                     // box around the whole parallelogram blurred footprints seen at an angle
                     // to the checks over twice their area.
-                    let half = (pa[i] - p[i]).hypot(pb[i] - p[i]);
+                    let half = ((pa[i] - p[i]).powi(2) + (pb[i] - p[i]).powi(2)).sqrt();
                     sign *= box_filtered_square_wave(p[i] / size, 2.0 * half / size);
                 }
                 let (c0, c1) = (colors[0], colors[1]);
@@ -244,7 +244,8 @@ impl Texture {
                     (lookup.coords)(*use_intrinsic, centre + b),
                 );
                 let (u, v) = (p[0] / scale, p[1] / scale);
-                let half = |i: usize| (pa[i] - p[i]).hypot(pb[i] - p[i]) / scale;
+                let half =
+                    |i: usize| ((pa[i] - p[i]).powi(2) + (pb[i] - p[i]).powi(2)).sqrt() / scale;
                 image.box_mean(u, v, half(0), half(1))
             }
         }

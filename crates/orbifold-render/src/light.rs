@@ -86,15 +86,12 @@ impl TangentFrame {
     /// The ray from (x, h) in the local direction `v` (unit).
     pub fn ray(&self, space: Space, x: DVec3, h: f64, v: DVec3) -> Ray {
         let horizontal = (v.x * v.x + v.y * v.y).sqrt();
-        let (u, elevation) = if horizontal < 1e-12 {
-            (self.e1, v.z.signum() * std::f64::consts::FRAC_PI_2)
-        } else {
-            (
-                (self.e1 * v.x + self.e2 * v.y) / horizontal,
-                v.z.atan2(horizontal),
-            )
-        };
-        Ray::new(space, x, u, h, elevation)
+        if horizontal < 1e-12 {
+            // Straight up or down: any horizontal direction will do.
+            return Ray::climbing(space, x, self.e1, h, 0.0, v.z.signum());
+        }
+        let u = (self.e1 * v.x + self.e2 * v.y) / horizontal;
+        Ray::climbing(space, x, u, h, horizontal, v.z)
     }
 }
 
@@ -192,7 +189,7 @@ pub fn connect(
         return None;
     }
     Some(Connection {
-        ray: Ray::new(space, x, u, hx, dh.atan2(sigma)),
+        ray: Ray::climbing(space, x, u, hx, sigma, dh),
         length,
         sigma,
         spread: spread(space, length, sigma),
@@ -599,7 +596,7 @@ impl Facing {
         let d = (b - self.centre).length();
         // At the light's antipode on the sphere, geodesics from the point reach it from every
         // side (`margin` grows without bound towards it).
-        let antipodal = space.kappa() > 0.0 && b.x.hypot(b.y) > PI - ANTIPODE;
+        let antipodal = space.kappa() > 0.0 && (b.x * b.x + b.y * b.y).sqrt() > PI - ANTIPODE;
         (b.is_finite() && d > 1.05 * self.radius && !antipodal).then_some(b)
     }
 
@@ -611,7 +608,8 @@ impl Facing {
     /// radian for r = 0.1 at D = 3 and unbounded at the antipode. The margin grows with it.
     fn margin(&self, b: DVec3) -> f64 {
         let mut angle = 0.05 + self.radius * self.radius;
-        let d = b.x.hypot(b.y);
+        // (Local coordinates near the light: no overflow for `hypot`, which is slow, to guard.)
+        let d = (b.x * b.x + b.y * b.y).sqrt();
         if self.kappa > 0.0 && d > 1e-6 {
             angle += CURVATURE_MARGIN * self.radius * (1.0 / d - 1.0 / d.tan()).max(0.0);
         }

@@ -153,7 +153,7 @@ impl Space {
     pub fn asin(&self, x: f64) -> f64 {
         match self.kappa {
             k if k > 0.0 => x.clamp(-1.0, 1.0).asin(),
-            k if k < 0.0 => x.asinh(),
+            k if k < 0.0 => arsinh(x),
             _ => x,
         }
     }
@@ -428,7 +428,7 @@ impl Space {
         let along = self.point_dot(x, t);
         match self.kappa {
             k if k > 0.0 => along.atan2(x.dot(p)),
-            k if k < 0.0 => along.asinh(),
+            k if k < 0.0 => arsinh(along),
             _ => along - self.point_dot(p, t),
         }
     }
@@ -443,12 +443,34 @@ impl Space {
     }
 }
 
+/// arsinh x = sign(x)·ln(1 + |x| + x²/(1 + √(1 + x²))), to within an ulp or two like
+/// `f64::asinh`, which takes a `hypot` on top (in H² the `hypot` alone took 2 % of a
+/// render's time). Past 1e150, where x² would overflow, ln 2|x|.
+#[inline]
+fn arsinh(x: f64) -> f64 {
+    let a = x.abs();
+    let magnitude = if a < 1e150 {
+        (a + a * a / (1.0 + (1.0 + a * a).sqrt())).ln_1p()
+    } else {
+        a.ln() + std::f64::consts::LN_2
+    };
+    magnitude.copysign(x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
 
     proptest! {
+        /// [`arsinh`] is `f64::asinh` to a few ulps, from the tiny to the huge.
+        #[test]
+        fn arsinh_matches_asinh(exponent in -300.0f64..300.0, negative in any::<bool>()) {
+            let x = 10f64.powf(exponent) * if negative { -1.0 } else { 1.0 };
+            let (ours, std) = (arsinh(x), x.asinh());
+            prop_assert!((ours - std).abs() <= 4.0 * f64::EPSILON * std.abs(), "{x}: {ours} {std}");
+        }
+
         /// `cos_sin` is `cos` and `sin` at once, to a few ulps (relative, and absolute near 0).
         #[test]
         fn cos_sin_matches_cos_and_sin(s in -750.0f64..750.0, g in 0usize..3) {
