@@ -16,10 +16,13 @@
 //! guides are noise too — and is smoothed by its lighting tolerance.
 //!
 //! The light a pixel saw directly (lights' images through the mirrors, [`FirstHit::emitted`]) is
-//! taken out before filtering and added back unfiltered: the filter smooths only the light that
-//! surfaces reflect, with that part's own variance. Otherwise a small bright light image lends the
-//! ceiling around it its brightness (a halo) and its noise (the partial coverage of its edge
-//! pixels), and the pixels beside it take its variance as their own tolerance. The rest is
+//! filtered apart, in the image's own units, and only between pixels whose paths disagree on what
+//! they saw: each neighbour weighs (1 − coherence) of both pixels, and a pixel whose coherence is
+//! above 0.95 keeps its own. Filtered with the rest, a small bright light image lent
+//! the ceiling around it its brightness (a halo) and its noise (the partial coverage of its edge
+//! pixels), and the pixels beside it took its variance as their own tolerance; left unfiltered
+//! everywhere, the band above a hyperbolic room's horizon, where the far light images shrink
+//! below a pixel and merge, kept all its noise. The rest is
 //! filtered in two parts under the same guides, each with its own variance and so its own
 //! lighting tolerance (as SVGF filters direct and indirect light apart): the first surface's
 //! light sample ([`FirstHit::direct`]; smooth and well sampled where a light image is near, such
@@ -593,27 +596,50 @@ pub fn denoise_with_reduction(
         })
         .unzip();
     let rest = Part { lighting, variance };
+    // The light seen directly, in the image's own units (not over the albedo).
+    let variance = (0..n)
+        .map(|i| {
+            let p = &guides.pixels[i];
+            let se = p.standard_error(&p.emitted_stats);
+            if se.is_finite() {
+                se * se
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
+    let seen = Part {
+        lighting: emitted,
+        variance,
+    };
     // The variance of each pixel's luminance in the image's own units: the light seen directly
-    // (which the filter leaves as it is) and the two filtered parts, which are over the albedo.
-    let total_variance = |parts: &[Part; 2]| -> Vec<f64> {
+    // and the two parts over the albedo.
+    let total_variance = |parts: &[Part; 3]| -> Vec<f64> {
         (0..n)
             .map(|i| {
-                let p = &guides.pixels[i];
-                let emitted = p.standard_error(&p.emitted_stats).powi(2);
                 let scale = luminance(albedo[i]).max(ALBEDO_FLOOR);
+                let emitted = parts[2].variance[i];
+                let emitted = if emitted.is_finite() { emitted } else { 0.0 };
                 emitted + (parts[0].variance[i] + parts[1].variance[i]) * scale * scale
             })
             .collect()
     };
-    let parts = [direct, rest];
+    let parts = [direct, rest, seen];
     let before = total_variance(&parts);
-    let parts = guide.smooth(parts);
+    let parts = guide.smooth(
+        parts,
+        [
+            PartRule::LightSample,
+            PartRule::Rest,
+            PartRule::SeenDirectly,
+        ],
+    );
     let variance = total_variance(&parts);
-    let [direct, rest] = parts;
+    let [direct, rest, seen] = parts;
     let pixels: Vec<Rgb> = (0..n)
         .map(|i| {
             let (d, r) = (direct.lighting[i], rest.lighting[i]);
-            let (a, e) = (albedo[i], emitted[i]);
+            let (a, e) = (albedo[i], seen.lighting[i]);
             [0, 1, 2].map(|k| (d[k] + r[k]) * a[k] + e[k])
         })
         .collect();
@@ -631,11 +657,40 @@ pub fn denoise_with_reduction(
     (Film::from_pixels(width, height, &pixels), reduction)
 }
 
-/// One part of the reflected light being filtered: per pixel its value over the albedo, and the
-/// variance of that value's luminance (infinite where unknown).
+/// One part of the light being filtered: per pixel its value (over the albedo for reflected
+/// light), and the variance of that value's luminance (infinite where unknown).
 struct Part {
     lighting: Vec<Rgb>,
     variance: Vec<f64>,
+}
+
+/// How much a pixel's light seen directly is averaged with its neighbours', by how much its
+/// paths agree on what they saw first: 1 − coherence, and 0 above a coherence of
+/// [`SEEN_COHERENT`] (nearly every pixel of a surface: its depths spread a little over its
+/// footprint), where the weights would be too small to matter and not worth their cost.
+fn seen_openness(coherence: f64) -> f64 {
+    if coherence >= SEEN_COHERENT {
+        0.0
+    } else {
+        1.0 - coherence
+    }
+}
+
+/// The coherence above which a pixel's light seen directly is left as it is.
+const SEEN_COHERENT: f64 = 0.95;
+
+/// How the filter treats a part.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PartRule {
+    /// The first surface's light sample: the sharp normal guide.
+    LightSample,
+    /// The light of longer paths: the soft normal guide.
+    Rest,
+    /// The light seen directly: averaged only between pixels whose paths disagree on what they
+    /// saw (the crowd of sub-pixel light images near a hyperbolic room's horizon), each
+    /// neighbour weighed by how little both pixels' paths agree, (1 − coherence) each. A
+    /// light image that covers its pixels whole, and the wall around it, keep their own.
+    SeenDirectly,
 }
 
 /// The guides of one denoising run.
@@ -653,7 +708,7 @@ impl Guide<'_> {
     /// The à-trous passes over parts of the lighting, each with the variance of its luminance
     /// and its own lighting tolerance, under the same guides (whose weights are computed once
     /// for all parts).
-    fn smooth<const N: usize>(&self, mut parts: [Part; N]) -> [Part; N] {
+    fn smooth<const N: usize>(&self, mut parts: [Part; N], rules: [PartRule; N]) -> [Part; N] {
         let n = self.width * self.height;
         for pass in 0..self.options.passes {
             let step = 1usize << pass;
@@ -669,7 +724,7 @@ impl Guide<'_> {
             });
             let filtered: Vec<[(Rgb, f64); N]> = (0..n)
                 .into_par_iter()
-                .map(|i| self.filter(i, step, &parts, &around.each_ref().map(|v| v[i])))
+                .map(|i| self.filter(i, step, &parts, &rules, &around.each_ref().map(|v| v[i])))
                 .collect();
             parts = std::array::from_fn(|k| Part {
                 lighting: filtered.iter().map(|f| f[k].0).collect(),
@@ -743,6 +798,7 @@ impl Guide<'_> {
         i: usize,
         step: usize,
         parts: &[Part; N],
+        rules: &[PartRule; N],
         variance_around: &[f64; N],
     ) -> [(Rgb, f64); N] {
         let o = self.options;
@@ -756,13 +812,16 @@ impl Guide<'_> {
         // it listens to them only as much as its paths agree (`guide_log_weight`), and to its
         // lighting tolerance.
         let mut sums = [([0.0; 3], 0.0, 0.0); N];
-        // The normal weight's exponent of each part: the light sample's first, then the rest's.
-        let sharpness = std::array::from_fn::<f64, N, _>(|k| {
-            if k == 0 {
-                o.sigma_normal
-            } else {
-                o.sigma_normal_rest
-            }
+        // The normal weight's exponent of each part.
+        let sharpness = rules.map(|rule| match rule {
+            PartRule::LightSample | PartRule::SeenDirectly => o.sigma_normal,
+            PartRule::Rest => o.sigma_normal_rest,
+        });
+        // How much each part listens to its neighbours at all: the light seen directly only as
+        // much as this pixel's paths disagree (0 for one surface: nothing to filter).
+        let openness = rules.map(|rule| match rule {
+            PartRule::SeenDirectly => seen_openness(self.coherence[i]),
+            PartRule::LightSample | PartRule::Rest => 1.0,
         });
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y + (dy as isize - 2) * step as isize;
@@ -786,9 +845,17 @@ impl Guide<'_> {
                 for (k, part) in parts.iter().enumerate() {
                     let w = if j == i {
                         kx * ky
+                    } else if openness[k] <= 0.0 {
+                        continue;
                     } else {
                         let light = -(centre[k] - luminance(part.lighting[j])).abs() / tolerance[k];
-                        kx * ky * (sharpness[k] * normal + others + light).exp()
+                        let open = match rules[k] {
+                            PartRule::SeenDirectly => {
+                                openness[k] * seen_openness(self.coherence[j])
+                            }
+                            PartRule::LightSample | PartRule::Rest => 1.0,
+                        };
+                        open * kx * ky * (sharpness[k] * normal + others + light).exp()
                     };
                     // NaN weights (from NaN guides) and unsampled neighbours are skipped.
                     let usable = w > 0.0 && (j == i || part.variance[j].is_finite());
