@@ -38,6 +38,7 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::fastmath::{exp_fast, ln_fast};
 use crate::film::{Film, Splat, luminance};
 use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
@@ -551,24 +552,36 @@ pub fn denoise_with_reduction(
     );
     let n = width as usize * height as usize;
     let albedo: Vec<Rgb> = (0..n)
+        .into_par_iter()
         .map(|i| guides.mean_albedo(i).map(|a| a.max(ALBEDO_FLOOR)))
         .collect();
-    let normal: Vec<DVec3> = (0..n).map(|i| guides.mean_normal(i)).collect();
-    let depth: Vec<f64> = (0..n).map(|i| guides.mean_depth(i)).collect();
-    let coherence: Vec<f64> = (0..n).map(|i| guides.coherence(i)).collect();
-    let guide = Guide {
-        width: width as usize,
-        height: height as usize,
-        albedo: &albedo,
-        normal: &normal,
-        depth: &depth,
-        coherence: &coherence,
+    let normal: Vec<DVec3> = (0..n)
+        .into_par_iter()
+        .map(|i| guides.mean_normal(i))
+        .collect();
+    let depth: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|i| guides.mean_depth(i))
+        .collect();
+    let coherence: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|i| guides.coherence(i))
+        .collect();
+    let guide = Guide::new(
+        (width as usize, height as usize),
+        &albedo,
+        &normal,
+        &depth,
+        &coherence,
         options,
-    };
+    );
     // The reflected light in two parts, each over the albedo with the variance of its
     // luminance: the first surface's light sample, and the rest (the film's mean less it and
     // less the light seen directly, which is added back unfiltered).
-    let emitted: Vec<Rgb> = (0..n).map(|i| guides.mean_emitted(i)).collect();
+    let emitted: Vec<Rgb> = (0..n)
+        .into_par_iter()
+        .map(|i| guides.mean_emitted(i))
+        .collect();
     let over_albedo = |i: usize, value: Rgb, stats: &Welford| {
         let a = albedo[i];
         let se = guides.pixels[i].standard_error(stats);
@@ -584,10 +597,12 @@ pub fn denoise_with_reduction(
         )
     };
     let (lighting, variance) = (0..n)
+        .into_par_iter()
         .map(|i| over_albedo(i, guides.mean_direct(i), &guides.pixels[i].direct_stats))
         .unzip();
     let direct = Part { lighting, variance };
     let (lighting, variance) = (0..n)
+        .into_par_iter()
         .map(|i| {
             let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
             let (c, e, d) = (film.pixel(x, y), emitted[i], guides.mean_direct(i));
@@ -598,6 +613,7 @@ pub fn denoise_with_reduction(
     let rest = Part { lighting, variance };
     // The light seen directly, in the image's own units (not over the albedo).
     let variance = (0..n)
+        .into_par_iter()
         .map(|i| {
             let p = &guides.pixels[i];
             let se = p.standard_error(&p.emitted_stats);
@@ -616,6 +632,7 @@ pub fn denoise_with_reduction(
     // and the two parts over the albedo.
     let total_variance = |parts: &[Part; 3]| -> Vec<f64> {
         (0..n)
+            .into_par_iter()
             .map(|i| {
                 let scale = luminance(albedo[i]).max(ALBEDO_FLOOR);
                 let emitted = parts[2].variance[i];
@@ -637,6 +654,7 @@ pub fn denoise_with_reduction(
     let variance = total_variance(&parts);
     let [direct, rest, seen] = parts;
     let pixels: Vec<Rgb> = (0..n)
+        .into_par_iter()
         .map(|i| {
             let (d, r) = (direct.lighting[i], rest.lighting[i]);
             let (a, e) = (albedo[i], seen.lighting[i]);
@@ -693,45 +711,155 @@ enum PartRule {
     SeenDirectly,
 }
 
-/// The guides of one denoising run.
+/// The guides of one denoising run, one plane per quantity: at one tap of the kernel, a row of
+/// pixels and their neighbours are two contiguous runs, which the filter weighs side by side in
+/// SIMD lanes ([`Guide::filter_row`]).
 struct Guide<'a> {
     width: usize,
     height: usize,
     albedo: &'a [Rgb],
-    normal: &'a [DVec3],
+    /// The mean normals' x, y and z.
+    normal: [Vec<f64>; 3],
     depth: &'a [f64],
     coherence: &'a [f64],
+    /// [`seen_openness`] of each pixel.
+    openness: Vec<f64>,
     options: &'a DenoiseOptions,
 }
 
-impl Guide<'_> {
+/// The parts being filtered, all of them.
+const PARTS: usize = 3;
+
+/// One part during the passes, one plane per quantity.
+struct Planes {
+    lighting: [Vec<f64>; 3],
+    luminance: Vec<f64>,
+    variance: Vec<f64>,
+    /// The variance where it is finite, 0 elsewhere (where the pixel is no neighbour's), so
+    /// that weights of 0 can be added without a branch or a masked load.
+    finite_variance: Vec<f64>,
+}
+
+impl Planes {
+    fn new(part: &Part) -> Planes {
+        Planes::from_planes(
+            [0, 1, 2].map(|c| part.lighting.iter().map(|l| l[c]).collect()),
+            part.variance.clone(),
+        )
+    }
+
+    /// Planes of `lighting` and `variance`. A pixel whose lighting is not finite is no
+    /// neighbour's (its luminance is not finite, and neither is its weight) and counts as 0 for
+    /// itself, so that sums of weights of 0 need no branch.
+    fn from_planes(mut lighting: [Vec<f64>; 3], variance: Vec<f64>) -> Planes {
+        let luminance = (0..variance.len())
+            .map(|i| luminance([lighting[0][i], lighting[1][i], lighting[2][i]]))
+            .collect();
+        for plane in &mut lighting {
+            for l in plane.iter_mut().filter(|l| !l.is_finite()) {
+                *l = 0.0;
+            }
+        }
+        let finite_variance = variance
+            .iter()
+            .map(|&v| if v.is_finite() { v } else { 0.0 })
+            .collect();
+        Planes {
+            lighting,
+            luminance,
+            variance,
+            finite_variance,
+        }
+    }
+
+    fn part(&self) -> Part {
+        let [r, g, b] = &self.lighting;
+        Part {
+            lighting: (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect(),
+            variance: self.variance.clone(),
+        }
+    }
+}
+
+/// What a row's pass adds up for one part at each pixel: Σw·lighting, Σw and Σw²·variance.
+struct RowSums {
+    lighting: [Vec<f64>; 3],
+    weights: Vec<f64>,
+    variance: Vec<f64>,
+}
+
+impl<'a> Guide<'a> {
+    fn new(
+        (width, height): (usize, usize),
+        albedo: &'a [Rgb],
+        normal: &[DVec3],
+        depth: &'a [f64],
+        coherence: &'a [f64],
+        options: &'a DenoiseOptions,
+    ) -> Guide<'a> {
+        Guide {
+            width,
+            height,
+            albedo,
+            normal: [0, 1, 2].map(|c| normal.iter().map(|n| n[c]).collect()),
+            depth,
+            coherence,
+            openness: coherence.iter().map(|&c| seen_openness(c)).collect(),
+            options,
+        }
+    }
+
     /// The à-trous passes over parts of the lighting, each with the variance of its luminance
     /// and its own lighting tolerance, under the same guides (whose weights are computed once
     /// for all parts).
-    fn smooth<const N: usize>(&self, mut parts: [Part; N], rules: [PartRule; N]) -> [Part; N] {
-        let n = self.width * self.height;
+    fn smooth(&self, parts: [Part; PARTS], rules: [PartRule; PARTS]) -> [Part; PARTS] {
+        let (width, n) = (self.width, self.width * self.height);
+        let mut planes = parts.each_ref().map(Planes::new);
         for pass in 0..self.options.passes {
             let step = 1usize << pass;
             // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in
             // SVGF): a pixel whose few samples happened to agree — all zero, say — has a
             // variance estimate near 0 and would otherwise refuse every neighbour and stay a
-            // dark or bright speck.
-            let around: [Vec<f64>; N] = parts.each_ref().map(|part| {
+            // dark or bright speck. (An infinite variance — nothing sampled around — accepts
+            // everything.)
+            let tolerance: [Vec<f64>; PARTS] = planes.each_ref().map(|part| {
                 (0..n)
                     .into_par_iter()
-                    .map(|i| self.blurred(i, &part.variance))
+                    .map(|i| {
+                        self.options.sigma_lighting * self.blurred(i, &part.variance).sqrt() + 1e-6
+                    })
                     .collect()
             });
-            let filtered: Vec<[(Rgb, f64); N]> = (0..n)
+            let rows: Vec<[RowSums; PARTS]> = (0..self.height)
                 .into_par_iter()
-                .map(|i| self.filter(i, step, &parts, &rules, &around.each_ref().map(|v| v[i])))
+                .map(|y| self.filter_row(y, step, &planes, &rules, &tolerance))
                 .collect();
-            parts = std::array::from_fn(|k| Part {
-                lighting: filtered.iter().map(|f| f[k].0).collect(),
-                variance: filtered.iter().map(|f| f[k].1).collect(),
+            planes = std::array::from_fn(|k| {
+                let old = &planes[k];
+                let mut lighting = [0, 1, 2].map(|_| Vec::with_capacity(n));
+                let mut variance = Vec::with_capacity(n);
+                for (y, row) in rows.iter().enumerate() {
+                    let sums = &row[k];
+                    for x in 0..width {
+                        let (i, weights) = (y * width + x, sums.weights[x]);
+                        for (c, plane) in lighting.iter_mut().enumerate() {
+                            plane.push(if weights > 0.0 {
+                                sums.lighting[c][x] / weights
+                            } else {
+                                old.lighting[c][i]
+                            });
+                        }
+                        variance.push(if weights > 0.0 {
+                            sums.variance[x] / (weights * weights)
+                        } else {
+                            old.variance[i]
+                        });
+                    }
+                }
+                Planes::from_planes(lighting, variance)
             });
         }
-        parts
+        planes.each_ref().map(Planes::part)
     }
 
     /// The variance around pixel `i`: a 3×3 Gaussian of the finite variances.
@@ -759,125 +887,391 @@ impl Guide<'_> {
         }
     }
 
-    /// How much neighbour `j` counts for pixel `i` by the guides (before the kernel's weight and
-    /// the lighting's), as logarithms scaled by how much pixel `i`'s paths agree (its
-    /// coherence): that of the normals' cosine, which each part raises to its own exponent
-    /// ([`DenoiseOptions::sigma_normal`], [`DenoiseOptions::sigma_normal_rest`]), and that of
-    /// the falloffs in depth and albedo (the filter's hot path: one logarithm, no exponential);
-    /// `None` for a weight of 0.
-    fn guide_log_weight(&self, i: usize, j: usize, step: usize) -> Option<(f64, f64)> {
-        let o = self.options;
-        let trust = self.coherence[i];
-        let cos = self.normal[i].dot(self.normal[j]);
-        // max(0, cos)^(σ·trust), with 0^0 = 1 as `powf` has it.
-        let normal = if trust <= 0.0 {
-            0.0
-        } else if cos > 0.0 {
-            trust * cos.ln()
-        } else {
-            return None;
-        };
-        let (zi, zj) = (self.depth[i], self.depth[j]);
-        let depth = -(zi - zj).abs() / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9) * trust;
-        let albedo = if o.sigma_albedo.is_finite() {
-            let da: f64 = (0..3)
-                .map(|c| (self.albedo[i][c] - self.albedo[j][c]).powi(2))
-                .sum();
-            -da / (o.sigma_albedo * o.sigma_albedo) * trust
-        } else {
-            0.0
-        };
-        Some((normal, depth + albedo))
+    /// One à-trous pass with holes of `step` over row `y`, for every part: the sums of each
+    /// pixel's weighted neighbours. `tolerance` is each part's lighting tolerance per pixel.
+    fn filter_row(
+        &self,
+        y: usize,
+        step: usize,
+        planes: &[Planes; PARTS],
+        rules: &[PartRule; PARTS],
+        tolerance: &[Vec<f64>; PARTS],
+    ) -> [RowSums; PARTS] {
+        crate::cpu::with_avx2!(Guide<'_>, self.filter_row_portable(
+            y: usize,
+            step: usize,
+            planes: &[Planes; PARTS],
+            rules: &[PartRule; PARTS],
+            tolerance: &[Vec<f64>; PARTS],
+        ) -> [RowSums; PARTS])
     }
 
-    /// One à-trous tap set around pixel `i` with holes of `step`, for every part: the filtered
-    /// lighting and its variance. `variance_around` is each part's (blurred) variance there,
-    /// which sets its lighting tolerance.
-    fn filter<const N: usize>(
+    /// [`Guide::filter_row`] in straight-line loops over runs of pixels (see the struct).
+    ///
+    /// A neighbour counts for a pixel by the guides — the normals' cosine to a power
+    /// ([`DenoiseOptions::sigma_normal`], [`DenoiseOptions::sigma_normal_rest`]), falloffs in
+    /// depth and albedo, each scaled by how much the pixel's paths agree (its coherence: a pixel
+    /// whose paths saw many different things, such as the crowd of far mirror images at a
+    /// hyperbolic room's horizon, has guides that are themselves noise, and listens to its
+    /// lighting tolerance instead) — and by how far its lighting is from the pixel's in units
+    /// of the tolerance. Unsampled neighbours, and weights of 0 or NaN, are left out.
+    #[inline(always)]
+    fn filter_row_portable(
         &self,
-        i: usize,
+        y: usize,
         step: usize,
-        parts: &[Part; N],
-        rules: &[PartRule; N],
-        variance_around: &[f64; N],
-    ) -> [(Rgb, f64); N] {
-        let o = self.options;
-        let (x, y) = ((i % self.width) as isize, (i / self.width) as isize);
-        let centre = parts.each_ref().map(|p| luminance(p.lighting[i]));
-        // The lighting tolerance: a few standard errors (an infinite variance — nothing
-        // sampled around — accepts everything).
-        let tolerance = variance_around.map(|v| o.sigma_lighting * v.sqrt() + 1e-6);
-        // A pixel whose paths saw many different things (sub-pixel detail: the crowd of far
-        // mirror images at a hyperbolic room's horizon) has guides that are themselves noise:
-        // it listens to them only as much as its paths agree (`guide_log_weight`), and to its
-        // lighting tolerance.
-        let mut sums = [([0.0; 3], 0.0, 0.0); N];
-        // The normal weight's exponent of each part.
-        let sharpness = rules.map(|rule| match rule {
-            PartRule::LightSample | PartRule::SeenDirectly => o.sigma_normal,
-            PartRule::Rest => o.sigma_normal_rest,
+        planes: &[Planes; PARTS],
+        rules: &[PartRule; PARTS],
+        tolerance: &[Vec<f64>; PARTS],
+    ) -> [RowSums; PARTS] {
+        let (width, o) = (self.width, self.options);
+        let row = y * width;
+        let mut sums: [RowSums; PARTS] = std::array::from_fn(|_| RowSums {
+            lighting: [0, 1, 2].map(|_| vec![0.0; width]),
+            weights: vec![0.0; width],
+            variance: vec![0.0; width],
         });
-        // How much each part listens to its neighbours at all: the light seen directly only as
-        // much as this pixel's paths disagree (0 for one surface: nothing to filter).
-        let openness = rules.map(|rule| match rule {
-            PartRule::SeenDirectly => seen_openness(self.coherence[i]),
-            PartRule::LightSample | PartRule::Rest => 1.0,
-        });
+        // The guides' log-weights of one tap's run: the normal's (which each part raises to
+        // its own exponent; NaN where the normals face apart: no weight) and the others'.
+        let (mut normal_log, mut others) = (vec![0.0; width], vec![0.0; width]);
+        let mut weights = vec![0.0; width];
+        // A row none of whose pixels listens to its neighbours' light seen directly (a row of
+        // surfaces) skips that part's weights.
+        let row_closed = self.openness[row..row + width].iter().all(|&o| o <= 0.0);
         for (dy, ky) in KERNEL.iter().enumerate() {
-            let yy = y + (dy as isize - 2) * step as isize;
+            let yy = y as isize + (dy as isize - 2) * step as isize;
             if yy < 0 || yy >= self.height as isize {
                 continue;
             }
+            let near_row = yy as usize * width;
             for (dx, kx) in KERNEL.iter().enumerate() {
-                let xx = x + (dx as isize - 2) * step as isize;
-                if xx < 0 || xx >= self.width as isize {
+                let kernel = kx * ky;
+                let offset = (dx as isize - 2) * step as isize;
+                // The pixels x in [x0, x1) whose neighbour x + offset is in the row.
+                let x0 = (-offset).max(0) as usize;
+                let x1 = (width as isize - offset.max(0)).max(0) as usize;
+                if x0 >= x1 {
                     continue;
                 }
-                let j = yy as usize * self.width + xx as usize;
-                let guides = if j == i {
-                    Some((0.0, 0.0))
-                } else {
-                    self.guide_log_weight(i, j, step)
-                };
-                let Some((normal, others)) = guides else {
-                    continue;
-                };
-                for (k, part) in parts.iter().enumerate() {
-                    let w = if j == i {
-                        kx * ky
-                    } else if openness[k] <= 0.0 {
-                        continue;
-                    } else {
-                        let light = -(centre[k] - luminance(part.lighting[j])).abs() / tolerance[k];
-                        let open = match rules[k] {
-                            PartRule::SeenDirectly => {
-                                openness[k] * seen_openness(self.coherence[j])
+                let run = x1 - x0;
+                let (at, near) = (row + x0, (near_row + x0).wrapping_add_signed(offset));
+                if (dx, dy) == (2, 2) {
+                    // The pixel itself: every part takes its own value.
+                    for (part, sums) in planes.iter().zip(&mut sums) {
+                        for c in 0..3 {
+                            let own = &part.lighting[c][at..at + run];
+                            for (s, l) in sums.lighting[c][x0..x1].iter_mut().zip(own) {
+                                *s += kernel * l;
                             }
-                            PartRule::LightSample | PartRule::Rest => 1.0,
-                        };
-                        open * kx * ky * (sharpness[k] * normal + others + light).exp()
+                        }
+                        for ((w, s), v) in sums.weights[x0..x1]
+                            .iter_mut()
+                            .zip(&mut sums.variance[x0..x1])
+                            .zip(&part.variance[at..at + run])
+                        {
+                            *w += kernel;
+                            *s += kernel * kernel * v;
+                        }
+                    }
+                    continue;
+                }
+                self.guide_log_weights(
+                    (at, near, run),
+                    step,
+                    &mut normal_log[..run],
+                    &mut others[..run],
+                );
+                for k in 0..PARTS {
+                    let (part, sums) = (&planes[k], &mut sums[k]);
+                    let sharpness = match rules[k] {
+                        PartRule::LightSample | PartRule::SeenDirectly => o.sigma_normal,
+                        PartRule::Rest => o.sigma_normal_rest,
                     };
-                    // NaN weights (from NaN guides) and unsampled neighbours are skipped.
-                    let usable = w > 0.0 && (j == i || part.variance[j].is_finite());
-                    if !usable {
+                    let seen = rules[k] == PartRule::SeenDirectly;
+                    if seen && row_closed {
                         continue;
                     }
-                    let (sum, weights, var) = &mut sums[k];
-                    for (s, l) in sum.iter_mut().zip(part.lighting[j]) {
-                        *s += w * l;
+                    let weights = &mut weights[..run];
+                    {
+                        let centre = &part.luminance[at..at + run];
+                        let tolerance = &tolerance[k][at..at + run];
+                        let open = &self.openness[at..at + run];
+                        let near_luminance = &part.luminance[near..near + run];
+                        let near_variance = &part.variance[near..near + run];
+                        let near_open = &self.openness[near..near + run];
+                        let (normal_log, others) = (&normal_log[..run], &others[..run]);
+                        for t in 0..run {
+                            let light = -(centre[t] - near_luminance[t]).abs() / tolerance[t];
+                            let open = if seen { open[t] * near_open[t] } else { 1.0 };
+                            let weight = open
+                                * kernel
+                                * exp_fast(sharpness * normal_log[t] + others[t] + light);
+                            // Not `&&`: a load behind a comparison becomes a masked load,
+                            // slow on some processors. (NaN weights fail the comparison.)
+                            let usable = (weight > 0.0) & near_variance[t].is_finite();
+                            weights[t] = if usable { weight } else { 0.0 };
+                        }
                     }
-                    *weights += w;
-                    *var += w * w * part.variance[j];
+                    for c in 0..3 {
+                        let near_lighting = &part.lighting[c][near..near + run];
+                        for ((s, l), w) in sums.lighting[c][x0..x1]
+                            .iter_mut()
+                            .zip(near_lighting)
+                            .zip(&*weights)
+                        {
+                            *s += w * l;
+                        }
+                    }
+                    let near_variance = &part.finite_variance[near..near + run];
+                    for ((sw, sv), (w, v)) in sums.weights[x0..x1]
+                        .iter_mut()
+                        .zip(&mut sums.variance[x0..x1])
+                        .zip(weights.iter().zip(near_variance))
+                    {
+                        *sw += w;
+                        *sv += w * w * v;
+                    }
                 }
             }
         }
-        std::array::from_fn(|k| {
-            let (sum, weights, var) = sums[k];
-            if weights <= 0.0 {
-                (parts[k].lighting[i], parts[k].variance[i])
+        sums
+    }
+
+    /// The guides' log-weights of a run of `run` pixels from `at` against as many neighbours
+    /// from `near`, scaled by each pixel's coherence: that of the normals' cosine (NaN where it
+    /// is not positive: no weight), and that of the falloffs in depth and albedo.
+    #[inline(always)]
+    fn guide_log_weights(
+        &self,
+        (at, near, run): (usize, usize, usize),
+        step: usize,
+        normal_log: &mut [f64],
+        others: &mut [f64],
+    ) {
+        let o = self.options;
+        let [nx, ny, nz] = &self.normal;
+        let (ax, ay, az) = (&nx[at..at + run], &ny[at..at + run], &nz[at..at + run]);
+        let (bx, by, bz) = (
+            &nx[near..near + run],
+            &ny[near..near + run],
+            &nz[near..near + run],
+        );
+        let (za, zb) = (&self.depth[at..at + run], &self.depth[near..near + run]);
+        let trust = &self.coherence[at..at + run];
+        let (normal_log, others) = (&mut normal_log[..run], &mut others[..run]);
+        let depth_scale = o.sigma_depth * step as f64;
+        for t in 0..run {
+            let cos = ax[t] * bx[t] + ay[t] * by[t] + az[t] * bz[t];
+            // max(0, cos)^(σ·trust), with 0^0 = 1 as `powf` has it.
+            normal_log[t] = if trust[t] <= 0.0 {
+                0.0
+            } else if cos > 0.0 {
+                trust[t] * ln_fast(cos.max(f64::MIN_POSITIVE))
             } else {
-                (sum.map(|s| s / weights), var / (weights * weights))
+                f64::NAN
+            };
+            let (zi, zj) = (za[t], zb[t]);
+            others[t] = -(zi - zj).abs() / (depth_scale * zi.max(zj) + 1e-9) * trust[t];
+        }
+        if o.sigma_albedo.is_finite() {
+            let scale = o.sigma_albedo * o.sigma_albedo;
+            for t in 0..run {
+                let (a, b) = (self.albedo[at + t], self.albedo[near + t]);
+                let da: f64 = (0..3).map(|c| (a[c] - b[c]).powi(2)).sum();
+                others[t] -= da / scale * trust[t];
             }
-        })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The filter as it was written first, one pixel at a time with libm's `exp` and `ln`: what
+    /// the row-wise, SIMD-friendly [`Guide::smooth`] must agree with.
+    fn smooth_one_pixel_at_a_time(
+        guide: &Guide<'_>,
+        mut parts: [Part; PARTS],
+        rules: [PartRule; PARTS],
+    ) -> [Part; PARTS] {
+        let (w, h, o) = (guide.width, guide.height, guide.options);
+        let normal =
+            |i: usize| DVec3::new(guide.normal[0][i], guide.normal[1][i], guide.normal[2][i]);
+        for pass in 0..o.passes {
+            let step = 1usize << pass;
+            let around: Vec<[f64; PARTS]> = (0..w * h)
+                .map(|i| std::array::from_fn(|k| guide.blurred(i, &parts[k].variance)))
+                .collect();
+            let filtered: Vec<[(Rgb, f64); PARTS]> = (0..w * h)
+                .map(|i| {
+                    let (x, y) = ((i % w) as isize, (i / w) as isize);
+                    let trust = guide.coherence[i];
+                    let mut sums = [([0.0; 3], 0.0, 0.0); PARTS];
+                    for (dy, ky) in KERNEL.iter().enumerate() {
+                        for (dx, kx) in KERNEL.iter().enumerate() {
+                            let (xx, yy) = (
+                                x + (dx as isize - 2) * step as isize,
+                                y + (dy as isize - 2) * step as isize,
+                            );
+                            if xx < 0 || yy < 0 || xx >= w as isize || yy >= h as isize {
+                                continue;
+                            }
+                            let j = yy as usize * w + xx as usize;
+                            let cos = normal(i).dot(normal(j));
+                            let guides = if j == i || trust <= 0.0 {
+                                Some((0.0, 0.0))
+                            } else if cos > 0.0 {
+                                Some((trust * cos.ln(), 0.0))
+                            } else {
+                                None
+                            };
+                            let Some((normal_log, _)) = guides else {
+                                continue;
+                            };
+                            let (zi, zj) = (guide.depth[i], guide.depth[j]);
+                            let depth = if j == i {
+                                0.0
+                            } else {
+                                -(zi - zj).abs() / (o.sigma_depth * zi.max(zj) * step as f64 + 1e-9)
+                                    * trust
+                            };
+                            for k in 0..PARTS {
+                                let part = &parts[k];
+                                let sharpness = match rules[k] {
+                                    PartRule::Rest => o.sigma_normal_rest,
+                                    _ => o.sigma_normal,
+                                };
+                                let tolerance = o.sigma_lighting * around[i][k].sqrt() + 1e-6;
+                                let open = match rules[k] {
+                                    PartRule::SeenDirectly => guide.openness[i] * guide.openness[j],
+                                    _ => 1.0,
+                                };
+                                let weight = if j == i {
+                                    kx * ky
+                                } else {
+                                    let light = -(luminance(part.lighting[i])
+                                        - luminance(part.lighting[j]))
+                                    .abs()
+                                        / tolerance;
+                                    open * kx * ky * (sharpness * normal_log + depth + light).exp()
+                                };
+                                if !(weight > 0.0 && (j == i || part.variance[j].is_finite())) {
+                                    continue;
+                                }
+                                let (sum, weights, variance) = &mut sums[k];
+                                for (s, l) in sum.iter_mut().zip(part.lighting[j]) {
+                                    *s += weight * l;
+                                }
+                                *weights += weight;
+                                *variance += weight * weight * part.variance[j];
+                            }
+                        }
+                    }
+                    std::array::from_fn(|k| {
+                        let (sum, weights, variance) = sums[k];
+                        (sum.map(|s| s / weights), variance / (weights * weights))
+                    })
+                })
+                .collect();
+            parts = std::array::from_fn(|k| Part {
+                lighting: filtered.iter().map(|f| f[k].0).collect(),
+                variance: filtered.iter().map(|f| f[k].1).collect(),
+            });
+        }
+        parts
+    }
+
+    fn uniforms(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn the_rows_in_simd_lanes_filter_as_one_pixel_at_a_time() {
+        // Random guides and parts on an image of odd size (so that every tap's run is clipped
+        // somewhere), with the cases the weights branch on: normals facing apart and missing
+        // (nothing seen), coherences of 0, 1 and above the light's openness threshold,
+        // unsampled pixels (infinite variance) and lighting far outside the tolerance.
+        let (w, h) = (141usize, 23usize);
+        let n = w * h;
+        let mut next = uniforms(99);
+        let normal: Vec<DVec3> = (0..n)
+            .map(|_| match (next() * 10.0) as u32 {
+                0 => DVec3::ZERO,
+                1 => -DVec3::Z,
+                _ => DVec3::new(next() - 0.5, next() - 0.5, 2.0).normalize(),
+            })
+            .collect();
+        let depth: Vec<f64> = (0..n).map(|_| 1.0 + 5.0 * next()).collect();
+        let coherence: Vec<f64> = (0..n)
+            .map(|_| match (next() * 5.0) as u32 {
+                0 => 0.0,
+                1 => 1.0,
+                _ => next(),
+            })
+            .collect();
+        let albedo = vec![[0.5; 3]; n];
+        let part = |next: &mut dyn FnMut() -> f64| Part {
+            lighting: (0..n)
+                .map(|_| {
+                    let scale = if next() < 0.1 { 50.0 } else { 1.0 };
+                    [next() * scale, next() * scale, next() * scale]
+                })
+                .collect(),
+            variance: (0..n)
+                .map(|_| {
+                    if next() < 0.05 {
+                        f64::INFINITY
+                    } else {
+                        0.01 * next()
+                    }
+                })
+                .collect(),
+        };
+        for passes in [1, 3, 5] {
+            let options = DenoiseOptions {
+                passes,
+                ..DenoiseOptions::default()
+            };
+            let guide = Guide::new((w, h), &albedo, &normal, &depth, &coherence, &options);
+            let rules = [
+                PartRule::LightSample,
+                PartRule::Rest,
+                PartRule::SeenDirectly,
+            ];
+            let parts = [part(&mut next), part(&mut next), part(&mut next)];
+            let copy = |parts: &[Part; PARTS]| {
+                parts.each_ref().map(|p| Part {
+                    lighting: p.lighting.clone(),
+                    variance: p.variance.clone(),
+                })
+            };
+            let fast = guide.smooth(copy(&parts), rules);
+            let slow = smooth_one_pixel_at_a_time(&guide, parts, rules);
+            for k in 0..PARTS {
+                for i in 0..n {
+                    let close = |a: f64, b: f64| {
+                        a == b || (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-12)
+                    };
+                    for c in 0..3 {
+                        let (a, b) = (fast[k].lighting[i][c], slow[k].lighting[i][c]);
+                        assert!(
+                            close(a, b),
+                            "{passes} passes, part {k}, pixel {i}: {a} against {b}"
+                        );
+                    }
+                    let (a, b) = (fast[k].variance[i], slow[k].variance[i]);
+                    assert!(
+                        close(a, b),
+                        "{passes} passes, part {k}, pixel {i}'s variance: {a} against {b}"
+                    );
+                }
+            }
+        }
     }
 }

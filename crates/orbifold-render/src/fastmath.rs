@@ -9,7 +9,8 @@
 /// Absolute error bound of [`ln_fast`] and so of [`asinh_fast`] (what bounds are widened by).
 pub(crate) const LN_FAST_ERROR: f64 = 1e-10;
 
-/// ln x for finite x ≥ 1 (what [`asinh_fast`] takes) to within [`LN_FAST_ERROR`]: x = 2^e·m with
+/// ln x for finite normal x > 0 (x ≥ 1 is what [`asinh_fast`] takes; the denoiser's cosines are
+/// in (0, 1]) to within [`LN_FAST_ERROR`]: x = 2^e·m with
 /// m in [√½, √2), ln m = 2 artanh z for z = (m − 1)/(m + 1), |z| ≤ 0.172, by its series to z¹¹
 /// (the rest is below 2e-11). Inlined and branch-light, it costs a fraction of libm's `ln`, and
 /// a bound test does two of them.
@@ -29,6 +30,51 @@ pub(crate) fn ln_fast(x: f64) -> f64 {
         + z2 * (1.0 / 3.0
             + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 * (1.0 / 9.0 + z2 * (1.0 / 11.0)))));
     exponent as f64 * std::f64::consts::LN_2 + 2.0 * z * series
+}
+
+/// Relative error bound of [`exp_fast`] (what its test holds it to).
+#[cfg_attr(not(test), allow(dead_code))]
+pub(crate) const EXP_FAST_ERROR: f64 = 1e-11;
+
+/// eˣ for x ≤ 709 to within a relative [`EXP_FAST_ERROR`]; 0 below −708 (where eˣ nears the
+/// smallest normal number), NaN for NaN. x = n·ln 2 + r with n an integer and |r| ≤ ½ ln 2
+/// (ln 2 in two parts, so that n·ln 2 is exact), eʳ by its Taylor series to r⁹ (the rest is
+/// below 1e-11), and 2ⁿ from its bits. Straight-line code: the denoiser's weights of a row of
+/// pixels run side by side in SIMD lanes, where a call into libm runs one at a time.
+#[inline(always)]
+pub(crate) fn exp_fast(x: f64) -> f64 {
+    // 1.5·2⁵²: adding it and taking it away rounds to the nearest integer (|v| < 2⁵¹).
+    const SHIFTER: f64 = 6_755_399_441_055_744.0;
+    // fdlibm's split of ln 2: the high part has 11 trailing zero bits, so n·LN2_HI is exact.
+    const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
+    const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
+    // The comparison is false for NaN, which so stays NaN.
+    let clamped = if x < -708.0 { -708.0 } else { x };
+    let shifted = clamped * std::f64::consts::LOG2_E + SHIFTER;
+    let n = shifted - SHIFTER;
+    let r = (clamped - n * LN2_HI) - n * LN2_LO;
+    // 1 + r(1 + r/2(1 + r/3(… (1 + r/9)))): the series to r⁹/9!.
+    const INVERSES: [f64; 9] = [
+        1.0,
+        1.0 / 2.0,
+        1.0 / 3.0,
+        1.0 / 4.0,
+        1.0 / 5.0,
+        1.0 / 6.0,
+        1.0 / 7.0,
+        1.0 / 8.0,
+        1.0 / 9.0,
+    ];
+    let mut series = 1.0;
+    for inverse in INVERSES.iter().rev() {
+        series = 1.0 + r * series * inverse;
+    }
+    // 2ⁿ for n in [−1022, 1023], from the low bits of `shifted`'s mantissa, which hold n (in
+    // two's complement, under 2⁵¹): integer shifts and adds, which SIMD lanes have, where
+    // a float's conversion to an integer has none in AVX2. (For NaN the scale is whatever; the
+    // series is NaN.)
+    let scale = f64::from_bits((shifted.to_bits() << 52).wrapping_add(1023 << 52));
+    if x < -708.0 { 0.0 } else { series * scale }
 }
 
 /// Absolute error bound of [`atan2_fast`] and so of [`asin_fast`].
@@ -138,6 +184,43 @@ mod tests {
             }
         }
         assert!(worst < ATAN_FAST_ERROR, "{worst:e}");
+    }
+
+    #[test]
+    fn fast_exp_is_within_its_bound() {
+        // Densely over [−708, 709], and at the seams of the range reduction (odd multiples of
+        // ½ ln 2), relative to libm's.
+        let mut worst: f64 = 0.0;
+        for i in 0..=1_417_000 {
+            let x = -708.0 + f64::from(i) * 1e-3;
+            worst = worst.max(((exp_fast(x) - x.exp()) / x.exp()).abs());
+        }
+        for k in -2041..2045 {
+            let seam = f64::from(k) * 0.5 * std::f64::consts::LN_2;
+            for x in [seam.next_down(), seam, seam.next_up()] {
+                if (-708.0..=709.0).contains(&x) {
+                    worst = worst.max(((exp_fast(x) - x.exp()) / x.exp()).abs());
+                }
+            }
+        }
+        assert!(worst < EXP_FAST_ERROR, "{worst:e}");
+        assert_eq!(exp_fast(0.0), 1.0);
+        assert_eq!(exp_fast(-708.5), 0.0);
+        assert_eq!(exp_fast(f64::NEG_INFINITY), 0.0);
+        assert!(exp_fast(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn fast_ln_is_within_its_bound_below_one() {
+        // The denoiser takes the logarithm of cosines in (0, 1].
+        let mut worst: f64 = 0.0;
+        for e in 1..1000 {
+            for i in 0..200 {
+                let x = 2f64.powi(-e) * (1.0 + f64::from(i) / 200.0);
+                worst = worst.max((ln_fast(x) - x.ln()).abs());
+            }
+        }
+        assert!(worst < LN_FAST_ERROR, "{worst:e}");
     }
 
     #[test]
