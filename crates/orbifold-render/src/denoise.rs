@@ -1182,15 +1182,6 @@ mod tests {
         parts
     }
 
-    fn uniforms(mut seed: u64) -> impl FnMut() -> f64 {
-        move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
     #[test]
     fn the_rows_in_simd_lanes_filter_as_one_pixel_at_a_time() {
         // Random guides and parts on an image of odd size (so that every tap's run is clipped
@@ -1199,7 +1190,8 @@ mod tests {
         // unsampled pixels (infinite variance) and lighting far outside the tolerance.
         let (w, h) = (141usize, 23usize);
         let n = w * h;
-        let mut next = uniforms(99);
+        let mut sampler = crate::sampler::Sampler::new(99, 0, 0);
+        let mut next = move || sampler.next_f64();
         let normal: Vec<DVec3> = (0..n)
             .map(|_| match (next() * 10.0) as u32 {
                 0 => DVec3::ZERO,
