@@ -248,6 +248,30 @@ fn ceil_select(t: f64) -> f64 {
     nearest + if nearest < t { 1.0 } else { 0.0 }
 }
 
+/// [s_lo, s_hi] clipped to the arc lengths where a ray that starts at `height` and climbs
+/// 1/`inv_sa` per unit of arc length (or is `level`) is in [h_lo, h_hi]: `RayFrame::slab`, and
+/// the test that rejects a ray before its frame is built ([`Bvh::heights_met`]), with the same
+/// arithmetic so that the two agree to the bit.
+#[inline(always)]
+fn height_slab(
+    (height, inv_sa, level): (f64, f64, bool),
+    (h_lo, h_hi): (f64, f64),
+    (s_lo, s_hi): (f64, f64),
+) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (s_lo, s_hi);
+    if level {
+        if height < h_lo || height > h_hi {
+            return None;
+        }
+    } else {
+        let t1 = (h_lo - height) * inv_sa;
+        let t2 = (h_hi - height) * inv_sa;
+        lo = lo.max(t1.min(t2));
+        hi = hi.min(t1.max(t2));
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
 /// Per-ray quantities for the ray–bound test, computed once per traversal.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct RayFrame {
@@ -322,6 +346,12 @@ impl RayFrame {
         a.x * b.x + a.y * b.y + self.kappa * a.z * b.z
     }
 
+    /// The curvature κ.
+    #[inline(always)]
+    pub(crate) fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
     /// The ray's start (ambient).
     #[inline(always)]
     pub(crate) fn origin(&self) -> DVec3 {
@@ -380,18 +410,11 @@ impl RayFrame {
     /// [s_lo, s_hi] clipped to the arc lengths where the height is in [h_lo, h_hi].
     #[inline(always)]
     pub(crate) fn slab(&self, h_lo: f64, h_hi: f64, s_lo: f64, s_hi: f64) -> Option<(f64, f64)> {
-        let (mut lo, mut hi) = (s_lo, s_hi);
-        if self.level {
-            if self.h < h_lo || self.h > h_hi {
-                return None;
-            }
-        } else {
-            let t1 = (h_lo - self.h) * self.inv_sa;
-            let t2 = (h_hi - self.h) * self.inv_sa;
-            lo = lo.max(t1.min(t2));
-            hi = hi.min(t1.max(t2));
-        }
-        (lo <= hi).then_some((lo, hi))
+        height_slab(
+            (self.h, self.inv_sa, self.level),
+            (h_lo, h_hi),
+            (s_lo, s_hi),
+        )
     }
 
     /// Where the ray's horizontal geodesic is inside the disc with this centre and V(r)
@@ -942,6 +965,9 @@ impl Bvh {
             self.kappa,
             "the BVH was built for another geometry"
         );
+        if !self.heights_met(ray, s_min, s_max) {
+            return None;
+        }
         let frame = RayFrame::new(space, ray);
         let root = self.root.as_ref()?;
         let entry = frame.entry(root.centre, root.reach, root.h_lo, root.h_hi, s_min, s_max)?;
@@ -1016,6 +1042,9 @@ impl Bvh {
             self.kappa,
             "the BVH was built for another geometry"
         );
+        if !self.heights_met(ray, s_min, s_max) {
+            return false;
+        }
         let frame = RayFrame::new(space, ray);
         let Some(root) = self.root.as_ref() else {
             return false;
@@ -1048,6 +1077,24 @@ impl Bvh {
             }
         }
         false
+    }
+
+    /// Whether the ray is within the mesh's heights somewhere in `[s_min, s_max]`: the root
+    /// bound's height test, done before the ray's frame is built (which costs more than the
+    /// test). Most rays between two mirrors of a Table 8.1 room pass above or below the object
+    /// (72 % of those in `*444`).
+    #[inline(always)]
+    fn heights_met(&self, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+        let Some(root) = self.root.as_ref() else {
+            return false;
+        };
+        // As `RayFrame::new` computes them, so that this never rejects what `entry` accepts.
+        let climb = (
+            ray.height,
+            1.0 / ray.sin_elevation,
+            ray.sin_elevation == 0.0,
+        );
+        height_slab(climb, (root.h_lo, root.h_hi), (s_min, s_max)).is_some()
     }
 
     /// The triangle with this index in the input list.

@@ -11,8 +11,13 @@
 //! the ray meets the triangle's surface continued beyond its edges (for a vertical triangle, its
 //! vertical plane). It is a combination of C, S, s·C and s·S, and is solved in s (not σ, so that
 //! near-vertical rays are fine) by a bracketed, safeguarded Newton iteration with an analytic
-//! derivative, on the arc lengths where the ray is inside the triangle's bounding disc (a closed
-//! form, as for the BVH) and height interval, cut into pieces of horizontal length ≤ 1/4.
+//! derivative, on the arc lengths where the ray is inside the triangle's height interval and
+//! over its footprint, cut into pieces of horizontal length ≤ 1/4. On E² and H² the span over the
+//! footprint is exact (each edge form is a + b·T along the ray, T = S(σ)/C(σ), so three linear
+//! inequalities in T and one artanh each end; widened by 10⁻⁹ beyond the edges); on S² and for
+//! vertical triangles and rays it is the span inside the bounding disc (a closed form, as for the
+//! BVH). The exact span halves the Newton searches in `*444`'s dragon, where the disc's span
+//! often held a root of G on the triangle's surface continued beyond its edges.
 //! First, a ray whose horizontal geodesic passes beside the footprint is rejected by three dot
 //! products: the geodesic is the model surface cut by the plane through the origin spanned by
 //! the ray's p and u, and the footprint lies in the cone of its vertices, so vertices all on one
@@ -38,6 +43,7 @@ use glam::DVec3;
 use orbifold::space::Space;
 
 use crate::bvh::{Disc, RayFrame};
+use crate::fastmath::{LN_FAST_ERROR, ln_fast};
 use crate::geodesic::Ray;
 
 /// Barycentric slack at a hit, relative to the edge's scale: neighbouring triangles overlap by
@@ -202,7 +208,17 @@ pub struct PreparedTriangle {
     reach: f64,
     /// The largest Euclidean length of the ambient vertices (the scale of the side test).
     scale: f64,
+    /// For E² and H², how far each edge form may go below 0 at a point within `FOOTPRINT_SLACK`
+    /// of the footprint (the slack times the form's norm as a line of the plane); `None` on S²,
+    /// and where the footprint's orientation is not certain (a vertical or nearly vertical
+    /// triangle), which keep to the bounding disc.
+    footprint_slack: Option<[f64; 3]>,
 }
+
+/// How far beyond its edges a triangle's footprint is searched for hits, as the bounding discs
+/// are widened (`crate::bvh::disc_around`): far above the slack that [`PreparedTriangle`]'s
+/// inside test allows.
+const FOOTPRINT_SLACK: f64 = 1e-9;
 
 impl PreparedTriangle {
     /// Prepares a triangle; `None` when it is degenerate (its vertices, lifted to ℝ⁴ as
@@ -224,6 +240,21 @@ impl PreparedTriangle {
         }
         let (centre, reach) = crate::bvh::disc_around(space, &points)?;
         let scale = points.iter().map(|p| p.length()).fold(0.0, f64::max);
+        // det M = p₀·(p₁ × p₂), far from its rounding error, orients the footprint; its edge
+        // forms are turned so that the footprint is where all three are ≥ 0.
+        let det = p0.dot(edges[0]);
+        let k = space.kappa();
+        let oriented = k <= 0.0 && det.abs() > 1e-9 * p0.length() * p1.length() * p2.length();
+        let edges = if oriented && det < 0.0 {
+            edges.map(|e| -e)
+        } else {
+            edges
+        };
+        // A form n as a line of the plane: n·x = sinh(distance)·√(n_x² + n_y² + κ n_z²) on H²
+        // (and the distance itself on E²), and sinh d ≥ d.
+        let footprint_slack = oriented.then(|| {
+            edges.map(|n| FOOTPRINT_SLACK * (n.x * n.x + n.y * n.y + k * n.z * n.z).max(0.0).sqrt())
+        });
         Some(PreparedTriangle {
             points,
             heights,
@@ -231,6 +262,7 @@ impl PreparedTriangle {
             centre,
             reach,
             scale,
+            footprint_slack,
         })
     }
 
@@ -288,6 +320,12 @@ impl PreparedTriangle {
             }
             None
         };
+        if let Some(slack) = &self.footprint_slack
+            && !frame.vertical()
+        {
+            let (a, b) = self.footprint_span(frame, slack)?;
+            return try_piece((a * frame.inv_ca(), b * frame.inv_ca()));
+        }
         match frame.disc(self.centre, self.reach) {
             Disc::Missed => None,
             Disc::Everywhere => {
@@ -335,6 +373,53 @@ impl PreparedTriangle {
                 None
             }
         }
+    }
+
+    /// Where (in σ) the horizontal geodesic of a ray that is not vertical is over the footprint
+    /// widened by `FOOTPRINT_SLACK`, on E² and H²: with x(σ) = C p + S u and C > 0, each edge
+    /// form is a + b T with T = S/C (σ on E², tanh σ on H²), so the span is an interval of T cut
+    /// by three linear inequalities. Tighter than the bounding disc, so that fewer pieces of the
+    /// ray are searched for roots of G that are not on the triangle.
+    #[inline]
+    fn footprint_span(&self, frame: &RayFrame, slack: &[f64; 3]) -> Option<(f64, f64)> {
+        let (p, u) = (frame.origin(), frame.direction());
+        let hyperbolic = frame.kappa() < 0.0;
+        let (mut lo, mut hi) = if hyperbolic {
+            (-1.0, 1.0)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
+        for (n, slack) in self.edges.iter().zip(slack) {
+            // a + b T ≥ −slack (C ≥ 1 on H², so this holds wherever (a + b T)·C ≥ −slack).
+            let (a, b) = (n.dot(p) + slack, n.dot(u));
+            let bound = -a / b;
+            if b > 0.0 {
+                lo = lo.max(bound);
+            } else if b < 0.0 {
+                hi = hi.min(bound);
+            } else if a < 0.0 {
+                return None;
+            }
+        }
+        if lo > hi {
+            return None;
+        }
+        if !hyperbolic {
+            return Some((lo, hi));
+        }
+        let artanh = |t: f64| {
+            if t <= -1.0 {
+                f64::NEG_INFINITY
+            } else if t >= 1.0 {
+                f64::INFINITY
+            } else {
+                0.5 * ln_fast((1.0 + t) / (1.0 - t))
+            }
+        };
+        // ln_fast's absolute error, and the rounding of (1 + T)/(1 − T).
+        let pad = 2.0 * LN_FAST_ERROR;
+        let (a, b) = (artanh(lo), artanh(hi));
+        Some((a - pad - 1e-12 * a.abs(), b + pad + 1e-12 * b.abs()))
     }
 
     /// The root of G(s) = (h(s) − h_ref)·Q(σ) − H(σ) on `piece`, if G changes sign there.
@@ -493,3 +578,71 @@ impl PreparedTriangle {
 
 /// A closed interval.
 type Interval = (f64, f64);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use orbifold::Geometry;
+    use proptest::prelude::*;
+
+    /// A triangle of intrinsic size 10⁻³–1 near the origin, level, sloping or nearly vertical.
+    fn triangle(space: Space, r: &mut impl FnMut() -> f64) -> Option<PreparedTriangle> {
+        let size = 10f64.powf(-3.0 * r());
+        let centre = DVec3::new(r() - 0.5, r() - 0.5, 0.0);
+        let slope = [0.0, 1.0, 1e3][(3.0 * r()) as usize % 3];
+        let mut offsets = [0, 1, 2].map(|_| DVec3::new(r() - 0.5, r() - 0.5, 0.0) * size);
+        if slope > 1.0 {
+            offsets[2] = offsets[1] + DVec3::new(1e-9 * size, 0.0, 0.0); // almost over vertex 1
+        }
+        let points = offsets.map(|v| space.exp(DVec3::Z, centre + v));
+        let heights = [0, 1, 2].map(|i| 0.5 + slope * size * (r() - 0.5) + 0.1 * i as f64 * size);
+        PreparedTriangle::new(space, points, heights)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        /// The search over the footprint's span finds what the search over the bounding disc
+        /// finds, for rays aimed at the triangle's edges and just beside them (only a hit within
+        /// 10⁻¹⁰ of an edge may be found by one and not the other).
+        #[test]
+        fn the_footprint_span_finds_what_the_bounding_disc_finds(
+            seed in any::<u64>(),
+            hyperbolic in any::<bool>(),
+        ) {
+            let space = Space::new(if hyperbolic { Geometry::Hyperbolic } else { Geometry::Euclidean });
+            let mut sampler = crate::sampler::Sampler::new(seed, 0, 0);
+            let mut r = move || sampler.next_f64();
+            let mut checked = 0;
+            for _ in 0..200 {
+                let Some(tri) = triangle(space, &mut r) else { continue };
+                let mut by_disc = tri;
+                by_disc.footprint_slack = None;
+                // A target on an edge (w = 0), just inside or outside it, or anywhere.
+                let mut w = [r(), r(), r()];
+                let edge = (3.0 * r()) as usize % 3;
+                w[edge] = [0.0, 1e-12, -1e-12, 1e-6, -1e-6, r() - 0.2][(6.0 * r()) as usize % 6];
+                let total: f64 = w.iter().sum();
+                let w = w.map(|x| x / total);
+                let triangle = Triangle::new(tri.points, tri.heights);
+                let (target, target_h) = triangle.point(space, w);
+                let origin = space.exp(DVec3::Z, DVec3::new(r() - 0.5, r() - 0.5, 0.0) * 2.0);
+                let log = space.log(origin, target);
+                let d = space.point_dot(log, log).sqrt();
+                if d < 1e-6 {
+                    continue;
+                }
+                let h = 2.0 * r() - 0.5;
+                let ray = Ray::new(space, origin, log, h, (target_h - h).atan2(d));
+                let (a, b) = (tri.intersect(space, &ray, 0.0, 10.0), by_disc.intersect(space, &ray, 0.0, 10.0));
+                let near_edge = |c: &Crossing| c.barycentric.iter().any(|&x| x.abs() < 1e-10);
+                match (a, b) {
+                    (Some(a), Some(b)) => prop_assert!((a.s - b.s).abs() <= 1e-12 * (1.0 + b.s), "{a:?} {b:?}"),
+                    (None, None) => {}
+                    (Some(c), None) | (None, Some(c)) => prop_assert!(near_edge(&c), "{c:?} by one search only"),
+                }
+                checked += 1;
+            }
+            prop_assert!(checked > 100);
+        }
+    }
+}
