@@ -57,10 +57,21 @@ impl RoomMesher {
         let rows = (((top - bottom) / resolution).ceil() as usize).max(1);
         let mut surface = Surface::default();
         for c in 0..=columns {
-            let t = from + (to - from) * c as f64 / columns as f64;
+            // The last column at `to` itself, which (to − from)·c/c need not round to: the
+            // neighbouring rectangle's first column is there, and the two must coincide.
+            let t = if c == columns {
+                to
+            } else {
+                from + (to - from) * c as f64 / columns as f64
+            };
             let point = self.wall_point(wall, t)?;
             for r in 0..=rows {
-                surface.push(point, bottom + (top - bottom) * r as f64 / rows as f64);
+                let height = if r == rows {
+                    top
+                } else {
+                    bottom + (top - bottom) * r as f64 / rows as f64
+                };
+                surface.push(point, height);
             }
         }
         let index = |c: usize, r: usize| (c * (rows + 1) + r) as u32;
