@@ -266,6 +266,11 @@ impl PreparedTriangle {
         })
     }
 
+    /// The triangle it was prepared from (its vertices and heights, as given).
+    pub fn triangle(&self) -> Triangle {
+        Triangle::new(self.points, self.heights)
+    }
+
     /// The first crossing of the ray with the triangle at arc length in `[s_min, s_max]`
     /// (`s_min` finite), or `None`. See the module documentation.
     pub fn intersect(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> Option<Crossing> {
