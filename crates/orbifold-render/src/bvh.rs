@@ -159,6 +159,9 @@ pub struct Bvh {
     kappa: f64,
     /// The bound of the whole mesh (`None` when it has no triangle).
     root: Option<Bound>,
+    /// The root's bound as a node's slot 0 (the other slots empty), so that a ray enters it
+    /// by the four-lane test: the fast functions rather than the library's.
+    root_node: Node,
     /// Node 0 holds the root's children.
     nodes: Vec<Node>,
     /// Triangles in leaf order, prepared for ray tests.
@@ -882,6 +885,7 @@ impl Bvh {
         let mut bvh = Bvh {
             kappa: space.kappa(),
             root: None,
+            root_node: Node::EMPTY,
             nodes: Vec::new(),
             prepared: Vec::new(),
             order: Vec::new(),
@@ -936,6 +940,7 @@ impl Bvh {
         };
         let root = builder.build(&mut tris, 0, 0);
         bvh.root = Some(*root.bound());
+        bvh.root_node.set(0, root.bound(), 0, 0);
         let mut nodes = Vec::with_capacity(tris.len() / LEAF_SIZE + 1);
         nodes.push(Node::EMPTY);
         bvh.depth = flatten(root.children(), 0, &mut nodes);
@@ -995,8 +1000,10 @@ impl Bvh {
             return None;
         }
         let frame = RayFrame::new(space, ray);
-        let root = self.root.as_ref()?;
-        let entry = frame.entry(root.centre, root.reach, root.h_lo, root.h_hi, s_min, s_max)?;
+        let entry = frame.entries(&self.root_node, s_min, s_max)[0];
+        if entry.is_nan() {
+            return None; // missed
+        }
         let mut best_s = s_max;
         let mut best = None;
         // Not an array: zeroing 4 KiB for every ray would cost more than a short traversal.
@@ -1073,14 +1080,8 @@ impl Bvh {
             return false;
         }
         let frame = RayFrame::new(space, ray);
-        let Some(root) = self.root.as_ref() else {
-            return false;
-        };
-        if frame
-            .entry(root.centre, root.reach, root.h_lo, root.h_hi, s_min, s_max)
-            .is_none()
-        {
-            return false;
+        if frame.entries(&self.root_node, s_min, s_max)[0].is_nan() {
+            return false; // missed
         }
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         stack.push((0, 0));
