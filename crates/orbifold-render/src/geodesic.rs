@@ -248,7 +248,7 @@ pub fn line_crossing(space: Space, a: f64, b: f64) -> Option<f64> {
 /// y = 2x/(1 − x), and ln(1 + y) = ln(u)·y/(u − 1) with u = 1 + y rounded, which cancels the
 /// rounding of u (Goldberg's trick) with libm's `ln`, where `atanh` calls the slower `log1p`.
 #[inline]
-pub(crate) fn artanh(x: f64) -> f64 {
+fn artanh(x: f64) -> f64 {
     let y = 2.0 * x / (1.0 - x);
     let u = 1.0 + y;
     let rounded = u - 1.0;

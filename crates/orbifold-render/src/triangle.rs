@@ -43,7 +43,7 @@ use glam::DVec3;
 use orbifold::space::Space;
 
 use crate::bvh::{Disc, RayFrame};
-use crate::fastmath::{LN_FAST_ERROR, ln_fast};
+use crate::fastmath::{LN_FAST_ERROR, atan2_fast, ln_fast};
 use crate::geodesic::Ray;
 
 /// Barycentric slack at a hit, relative to the edge's scale: neighbouring triangles overlap by
@@ -292,12 +292,12 @@ impl PreparedTriangle {
         if !lo.is_finite() || frame.misses_hull(&self.points, self.scale) {
             return None;
         }
-        let inflection = self.inflection(space, frame);
         let try_piece = |(x, y): Interval| -> Option<Crossing> {
             let (x, y) = (x.max(lo), y.min(hi));
             if x.is_nan() || x > y || !y.is_finite() {
                 return None;
             }
+            let inflection = self.inflection(space, frame);
             // G is examined on pieces of horizontal length at most `PIECE`, each cut where G''
             // changes sign near the surface, so that G has at most one extremum on each part
             // in practice (see `solve`).
@@ -464,10 +464,11 @@ impl PreparedTriangle {
         let sigma = if ca == 0.0 || frame.level() || k == 0.0 {
             None
         } else if k < 0.0 {
+            // (Where the cut falls only needs to be near the inflection: fast functions.)
             let t = -qu / qp;
-            (t.abs() < 1.0).then(|| crate::geodesic::artanh(t))
+            (t.abs() < 1.0).then(|| 0.5 * ln_fast((1.0 + t) / (1.0 - t)))
         } else {
-            Some((qu / qp).atan())
+            Some(atan2_fast(qu, qp))
         };
         let inv_ca = frame.inv_ca();
         move |a: f64, b: f64| {
