@@ -4,8 +4,10 @@
 //! The hottest loops, the BVH's four-lane bound tests and the light-image weights, run faster
 //! with AVX2 and FMA, where four f64 lanes fit one register (spherical rays 6-27 % faster per
 //! ray; docs/benchmarks.md): they are compiled twice, and [`has_avx2_fma`] picks the copy at
-//! run time ([`with_avx2`]). Both copies compute the same IEEE operations in the same order, so
-//! renders are bit for bit the same on either path.
+//! run time ([`with_avx2`]). The loops over many values — a sphere light's triangles, the
+//! light images, a row of the denoiser — get a third copy for AVX-512 ([`with_avx512`]), where
+//! sixteen f32 or eight f64 lanes fit a register. Every copy computes the same IEEE operations
+//! in the same order, so renders are bit for bit the same on any path (tests compare them).
 
 /// Whether this processor has AVX2 and FMA (x86-64 only; `false` elsewhere). The answer is
 /// cached by the standard library after the first call.
@@ -50,6 +52,46 @@ macro_rules! with_avx2 {
     }};
 }
 pub(crate) use with_avx2;
+
+/// Whether this processor has AVX-512 (foundation and vector-length extensions) besides AVX2
+/// and FMA (x86-64 only).
+#[inline]
+pub(crate) fn has_avx512() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        has_avx2_fma()
+            && std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// [`with_avx2`] with a third copy compiled for AVX-512, picked first where the processor has
+/// it: for the loops over many values (a light's triangles, a row of pixels, the light
+/// images), which fill sixteen f32 or eight f64 lanes a register. The same IEEE operations in
+/// the same order as the other copies, so the results are the same bits.
+macro_rules! with_avx512 {
+    ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = "avx512f,avx512vl,avx2,fma")]
+            fn avx512(this: &$Type, $($arg: $ty),*) -> $ret {
+                this.$portable($($arg),*)
+            }
+            if $crate::cpu::has_avx512() {
+                // SAFETY: the processor has AVX-512F, AVX-512VL, AVX2 and FMA (all that the
+                // `target_feature` function requires), checked just above.
+                #[allow(unsafe_code)]
+                return unsafe { avx512($self, $($arg),*) };
+            }
+        }
+        $crate::cpu::with_avx2!($Type, $self.$portable($($arg: $ty),*) -> $ret)
+    }};
+}
+pub(crate) use with_avx512;
 
 /// Asks the processor to bring the cache lines of `value`'s first `lines` × 64 bytes into its
 /// caches (a hint: nothing is read, and nothing happens on other architectures). The BVH

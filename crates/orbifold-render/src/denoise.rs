@@ -897,7 +897,7 @@ impl<'a> Guide<'a> {
         rules: &[PartRule; PARTS],
         tolerance: &[Vec<f64>; PARTS],
     ) -> [RowSums; PARTS] {
-        crate::cpu::with_avx2!(Guide<'_>, self.filter_row_portable(
+        crate::cpu::with_avx512!(Guide<'_>, self.filter_row_portable(
             y: usize,
             step: usize,
             planes: &[Planes; PARTS],

@@ -1079,7 +1079,7 @@ impl Integrator {
     /// product. Images behind the surface then weigh next to nothing (the cosine's floor), and
     /// on the floor and the ceiling far images weigh as 1/ℓ³ rather than 1/ℓ².
     fn near_weights(&self, x: DVec3, h: f64, normal: Normal, weights: &mut [f64; NEAR_MAX]) -> f64 {
-        crate::cpu::with_avx2!(
+        crate::cpu::with_avx512!(
             Integrator,
             self.near_weights_portable(
                 x: DVec3,

@@ -30,7 +30,7 @@ use orbifold::space::Space;
 use orbifold_scene::{LightKind, Scene};
 
 use crate::bvh::Bvh;
-use crate::cpu::with_avx2;
+use crate::cpu::with_avx512;
 use crate::geodesic::Ray;
 use crate::instance::Instance;
 use crate::room::AnalyticRoom;
@@ -636,7 +636,7 @@ impl Facing {
     /// The kept weight block by block (`BLOCK` triangles each) into `blocks`, and the total;
     /// `None` when the light has more than `BLOCK`·`MAX_BLOCKS` triangles.
     fn kept_blocks(&self, aim: &Aim, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64> {
-        with_avx2!(
+        with_avx512!(
             Facing,
             self.kept_blocks_portable(aim: &Aim, blocks: &mut [f64; MAX_BLOCKS]) -> Option<f64>
         )
@@ -1395,6 +1395,12 @@ mod tests {
                 let mut blocks = [0.0; MAX_BLOCKS];
                 let total = facing.kept_blocks(&aim, &mut blocks).unwrap();
                 assert!((total - scan).abs() <= 1e-12 * scan, "{total} vs {scan}");
+                // What the processor's SIMD copy (AVX-512 or AVX2, where it has them) computes
+                // is what the portable body computes, to the bit.
+                let mut portable = [0.0; MAX_BLOCKS];
+                let portable_total = facing.kept_blocks_portable(&aim, &mut portable).unwrap();
+                assert_eq!(total.to_bits(), portable_total.to_bits());
+                assert_eq!(blocks.map(f64::to_bits), portable.map(f64::to_bits));
                 assert_eq!(facing.kept_weight(&aim), total);
                 let mut start = 0.0;
                 for &i in &kept {
