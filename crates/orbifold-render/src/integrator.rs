@@ -72,7 +72,7 @@ pub struct Settings {
     /// mirrors to be isometries, so straight rays never carry it.
     pub pixel_footprint: bool,
     /// With the pixel footprint and light sampling, rays that leave a diffuse bounce carry a
-    /// footprint too ([`BOUNCE_GLIMPSE`]; on by default), with which the far mirror images of
+    /// footprint too (`BOUNCE_GLIMPSE`; on by default), with which the far mirror images of
     /// sphere lights that light sampling cannot draw (beyond the image set's cutoff: thousands
     /// in a hyperbolic room) count by the share of it they cover instead of by rare hits of
     /// enormous radiance. Off, those images are found by ray hits alone.

@@ -401,7 +401,7 @@ const MAX_BLOCKS: usize = 64;
 /// of the centre keep every triangle.
 ///
 /// Among the kept triangles, light sampling draws each by about the solid angle it fills seen
-/// from the point ([`Aim::weight`]), not by its area, so that a light sample's estimate hardly
+/// from the point (`Aim::weight`), not by its area, so that a light sample's estimate hardly
 /// varies over the sphere.
 #[derive(Clone, Debug)]
 pub struct Facing {

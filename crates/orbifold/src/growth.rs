@@ -6,7 +6,7 @@
 //! (W_T = 1 + x) and every corner of finite order k (W_T = (1 + x)(1 + x + … + x^(k−1))). So
 //! W(x) = 1 / (1 − N x/(1 + x) + Σ_corners x^k / ((1 + x)(1 + x + … + x^(k−1)))), a power series
 //! with integer coefficients. Finite (spherical) groups are products of dihedral and polyhedral
-//! groups whose growth polynomials are products of [dᵢ] = 1 + x + … + x^(dᵢ−1) over their degrees.
+//! groups whose growth polynomials are products of \[dᵢ\] = 1 + x + … + x^(dᵢ−1) over their degrees.
 
 use crate::euler::Geometry;
 use crate::order::Order;
