@@ -23,36 +23,6 @@ pub(crate) fn has_avx2_fma() -> bool {
     }
 }
 
-/// Calls the method `$portable` of `$self` (of type `$Type`; the method must be
-/// `#[inline(always)]`, so that it is compiled anew inside the copy) through a copy compiled for
-/// AVX2 and FMA when the processor has them, and directly otherwise. Used as the whole body of
-/// a dispatching method:
-///
-/// ```ignore
-/// pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
-///     with_avx2!(Bvh, self.occluded_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool)
-/// }
-/// ```
-macro_rules! with_avx2 {
-    ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        {
-            #[target_feature(enable = "avx2,fma")]
-            fn avx2(this: &$Type, $($arg: $ty),*) -> $ret {
-                this.$portable($($arg),*)
-            }
-            if $crate::cpu::has_avx2_fma() {
-                // SAFETY: the processor has AVX2 and FMA (all that a `target_feature` function
-                // requires), checked just above.
-                #[allow(unsafe_code)]
-                return unsafe { avx2($self, $($arg),*) };
-            }
-        }
-        $self.$portable($($arg),*)
-    }};
-}
-pub(crate) use with_avx2;
-
 /// Whether this processor has AVX-512 (foundation and vector-length extensions) besides AVX2
 /// and FMA (x86-64 only).
 #[inline]
@@ -69,25 +39,55 @@ pub(crate) fn has_avx512() -> bool {
     }
 }
 
+/// Calls `$self.$portable(…)` through a copy compiled with the target features `$features`
+/// when `$has()` says the processor has them, and returns its result; falls through otherwise.
+/// The method must be `#[inline(always)]`, so that it is compiled anew inside the copy.
+macro_rules! call_with_features {
+    ($features:literal, $has:path, $Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),*) -> $ret:ty) => {
+        #[cfg(target_arch = "x86_64")]
+        {
+            #[target_feature(enable = $features)]
+            fn copy(this: &$Type, $($arg: $ty),*) -> $ret {
+                this.$portable($($arg),*)
+            }
+            if $has() {
+                // SAFETY: the processor has every feature the `target_feature` function
+                // requires, checked just above.
+                #[allow(unsafe_code)]
+                return unsafe { copy($self, $($arg),*) };
+            }
+        }
+    };
+}
+pub(crate) use call_with_features;
+
+/// Calls the method `$portable` of `$self` (of type `$Type`; the method must be
+/// `#[inline(always)]`, so that it is compiled anew inside the copy) through a copy compiled for
+/// AVX2 and FMA when the processor has them, and directly otherwise. Used as the whole body of
+/// a dispatching method:
+///
+/// ```ignore
+/// pub fn occluded(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
+///     with_avx2!(Bvh, self.occluded_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool)
+/// }
+/// ```
+macro_rules! with_avx2 {
+    ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
+        $crate::cpu::call_with_features!("avx2,fma", $crate::cpu::has_avx2_fma, $Type,
+            $self.$portable($($arg: $ty),*) -> $ret);
+        $self.$portable($($arg),*)
+    }};
+}
+pub(crate) use with_avx2;
+
 /// [`with_avx2`] with a third copy compiled for AVX-512, picked first where the processor has
 /// it: for the loops over many values (a light's triangles, a row of pixels, the light
 /// images), which fill sixteen f32 or eight f64 lanes a register. The same IEEE operations in
 /// the same order as the other copies, so the results are the same bits.
 macro_rules! with_avx512 {
     ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
-        #[cfg(target_arch = "x86_64")]
-        {
-            #[target_feature(enable = "avx512f,avx512vl,avx2,fma")]
-            fn avx512(this: &$Type, $($arg: $ty),*) -> $ret {
-                this.$portable($($arg),*)
-            }
-            if $crate::cpu::has_avx512() {
-                // SAFETY: the processor has AVX-512F, AVX-512VL, AVX2 and FMA (all that the
-                // `target_feature` function requires), checked just above.
-                #[allow(unsafe_code)]
-                return unsafe { avx512($self, $($arg),*) };
-            }
-        }
+        $crate::cpu::call_with_features!("avx512f,avx512vl,avx2,fma", $crate::cpu::has_avx512,
+            $Type, $self.$portable($($arg: $ty),*) -> $ret);
         $crate::cpu::with_avx2!($Type, $self.$portable($($arg: $ty),*) -> $ret)
     }};
 }
