@@ -772,6 +772,35 @@ impl Planes {
         }
     }
 
+    /// Planes of `n` pixels, all 0 (to be written by a pass).
+    fn zeroed(n: usize) -> Planes {
+        Planes {
+            lighting: [0, 1, 2].map(|_| vec![0.0; n]),
+            luminance: vec![0.0; n],
+            variance: vec![0.0; n],
+            finite_variance: vec![0.0; n],
+        }
+    }
+
+    /// The planes' rows of `width` pixels, each writable on its own.
+    fn rows_mut(&mut self, width: usize) -> impl Iterator<Item = PlanesRow<'_>> {
+        let [r, g, b] = &mut self.lighting;
+        (r.chunks_mut(width))
+            .zip(g.chunks_mut(width))
+            .zip(b.chunks_mut(width))
+            .zip(self.luminance.chunks_mut(width))
+            .zip(self.variance.chunks_mut(width))
+            .zip(self.finite_variance.chunks_mut(width))
+            .map(
+                |(((((r, g), b), luminance), variance), finite_variance)| PlanesRow {
+                    lighting: [r, g, b],
+                    luminance,
+                    variance,
+                    finite_variance,
+                },
+            )
+    }
+
     fn part(&self) -> Part {
         let [r, g, b] = &self.lighting;
         Part {
@@ -781,11 +810,84 @@ impl Planes {
     }
 }
 
-/// What a row's pass adds up for one part at each pixel: Σw·lighting, Σw and Σw²·variance.
+/// What a row's pass adds up for one part at each pixel: Σw·lighting, Σw and Σw²·variance;
+/// with the scratch runs of one tap's weights, a worker's memory for the rows it filters.
 struct RowSums {
     lighting: [Vec<f64>; 3],
     weights: Vec<f64>,
     variance: Vec<f64>,
+}
+
+impl RowSums {
+    /// The sums of every part for a row of `width` pixels, with the tap's scratch runs.
+    fn zeroed(width: usize) -> ([RowSums; PARTS], TapRuns) {
+        let sums = std::array::from_fn(|_| RowSums {
+            lighting: [0, 1, 2].map(|_| vec![0.0; width]),
+            weights: vec![0.0; width],
+            variance: vec![0.0; width],
+        });
+        let runs = TapRuns {
+            normal_log: vec![0.0; width],
+            others: vec![0.0; width],
+            weights: vec![0.0; width],
+        };
+        (sums, runs)
+    }
+
+    fn clear(&mut self) {
+        for plane in self
+            .lighting
+            .iter_mut()
+            .chain([&mut self.weights, &mut self.variance])
+        {
+            plane.fill(0.0);
+        }
+    }
+}
+
+/// One tap's runs over a row: the guides' log-weights (the normal's, which each part raises to
+/// its own exponent, and the others') and a part's weights.
+struct TapRuns {
+    normal_log: Vec<f64>,
+    others: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+/// One row of a part's [`Planes`], being written by a pass.
+struct PlanesRow<'a> {
+    lighting: [&'a mut [f64]; 3],
+    luminance: &'a mut [f64],
+    variance: &'a mut [f64],
+    finite_variance: &'a mut [f64],
+}
+
+impl PlanesRow<'_> {
+    /// The row's filtered values from its sums (a pixel with no weight keeps its value in
+    /// `old`, the planes the pass read; its first pixel is `start` there), with the luminance
+    /// and the finite values that [`Planes::from_planes`] derives.
+    fn finish(&mut self, sums: &RowSums, old: &Planes, start: usize) {
+        for x in 0..self.luminance.len() {
+            let (i, weights) = (start + x, sums.weights[x]);
+            let lighting = [0, 1, 2].map(|c| {
+                if weights > 0.0 {
+                    sums.lighting[c][x] / weights
+                } else {
+                    old.lighting[c][i]
+                }
+            });
+            let variance = if weights > 0.0 {
+                sums.variance[x] / (weights * weights)
+            } else {
+                old.variance[i]
+            };
+            self.luminance[x] = luminance(lighting);
+            for (plane, l) in self.lighting.iter_mut().zip(lighting) {
+                plane[x] = if l.is_finite() { l } else { 0.0 };
+            }
+            self.variance[x] = variance;
+            self.finite_variance[x] = if variance.is_finite() { variance } else { 0.0 };
+        }
+    }
 }
 
 impl<'a> Guide<'a> {
@@ -815,6 +917,12 @@ impl<'a> Guide<'a> {
     fn smooth(&self, parts: [Part; PARTS], rules: [PartRule; PARTS]) -> [Part; PARTS] {
         let (width, n) = (self.width, self.width * self.height);
         let mut planes = parts.each_ref().map(Planes::new);
+        // Every pass reads `planes` and writes `next`, then the two swap: the planes, the
+        // tolerances and the rows' sums are allocated once for all passes (fresh memory each
+        // pass — a few hundred megabytes at 896² — cost more in page faults than the filter's
+        // own arithmetic in some passes).
+        let mut next = planes.each_ref().map(|_| Planes::zeroed(n));
+        let mut tolerance: [Vec<f64>; PARTS] = std::array::from_fn(|_| vec![0.0; n]);
         for pass in 0..self.options.passes {
             let step = 1usize << pass;
             // The lighting tolerance comes from the variance blurred over 3×3 pixels (as in
@@ -822,42 +930,29 @@ impl<'a> Guide<'a> {
             // variance estimate near 0 and would otherwise refuse every neighbour and stay a
             // dark or bright speck. (An infinite variance — nothing sampled around — accepts
             // everything.)
-            let tolerance: [Vec<f64>; PARTS] = planes.each_ref().map(|part| {
-                (0..n)
-                    .into_par_iter()
-                    .map(|i| {
-                        self.options.sigma_lighting * self.blurred(i, &part.variance).sqrt() + 1e-6
-                    })
-                    .collect()
-            });
-            let rows: Vec<[RowSums; PARTS]> = (0..self.height)
-                .into_par_iter()
-                .map(|y| self.filter_row(y, step, &planes, &rules, &tolerance))
+            for (part, tolerance) in planes.iter().zip(&mut tolerance) {
+                tolerance.par_iter_mut().enumerate().for_each(|(i, t)| {
+                    *t =
+                        self.options.sigma_lighting * self.blurred(i, &part.variance).sqrt() + 1e-6;
+                });
+            }
+            let [a, b, c] = &mut next;
+            let rows: Vec<[PlanesRow<'_>; PARTS]> = (a.rows_mut(width))
+                .zip(b.rows_mut(width))
+                .zip(c.rows_mut(width))
+                .map(|((a, b), c)| [a, b, c])
                 .collect();
-            planes = std::array::from_fn(|k| {
-                let old = &planes[k];
-                let mut lighting = [0, 1, 2].map(|_| Vec::with_capacity(n));
-                let mut variance = Vec::with_capacity(n);
-                for (y, row) in rows.iter().enumerate() {
-                    let sums = &row[k];
-                    for x in 0..width {
-                        let (i, weights) = (y * width + x, sums.weights[x]);
-                        for (c, plane) in lighting.iter_mut().enumerate() {
-                            plane.push(if weights > 0.0 {
-                                sums.lighting[c][x] / weights
-                            } else {
-                                old.lighting[c][i]
-                            });
-                        }
-                        variance.push(if weights > 0.0 {
-                            sums.variance[x] / (weights * weights)
-                        } else {
-                            old.variance[i]
-                        });
+            let (planes_in, tolerance) = (&planes, &tolerance);
+            rows.into_par_iter().enumerate().for_each_init(
+                || RowSums::zeroed(width),
+                |scratch, (y, mut out)| {
+                    self.filter_row(y, step, planes_in, &rules, tolerance, scratch);
+                    for ((sums, out), old) in scratch.0.iter().zip(&mut out).zip(planes_in) {
+                        out.finish(sums, old, y * width);
                     }
-                }
-                Planes::from_planes(lighting, variance)
-            });
+                },
+            );
+            std::mem::swap(&mut planes, &mut next);
         }
         planes.each_ref().map(Planes::part)
     }
@@ -896,14 +991,16 @@ impl<'a> Guide<'a> {
         planes: &[Planes; PARTS],
         rules: &[PartRule; PARTS],
         tolerance: &[Vec<f64>; PARTS],
-    ) -> [RowSums; PARTS] {
+        scratch: &mut ([RowSums; PARTS], TapRuns),
+    ) {
         crate::cpu::with_avx512!(Guide<'_>, self.filter_row_portable(
             y: usize,
             step: usize,
             planes: &[Planes; PARTS],
             rules: &[PartRule; PARTS],
             tolerance: &[Vec<f64>; PARTS],
-        ) -> [RowSums; PARTS])
+            scratch: &mut ([RowSums; PARTS], TapRuns),
+        ) -> ())
     }
 
     /// [`Guide::filter_row`] in straight-line loops over runs of pixels (see the struct).
@@ -923,18 +1020,18 @@ impl<'a> Guide<'a> {
         planes: &[Planes; PARTS],
         rules: &[PartRule; PARTS],
         tolerance: &[Vec<f64>; PARTS],
-    ) -> [RowSums; PARTS] {
+        (sums, runs): &mut ([RowSums; PARTS], TapRuns),
+    ) {
         let (width, o) = (self.width, self.options);
         let row = y * width;
-        let mut sums: [RowSums; PARTS] = std::array::from_fn(|_| RowSums {
-            lighting: [0, 1, 2].map(|_| vec![0.0; width]),
-            weights: vec![0.0; width],
-            variance: vec![0.0; width],
-        });
+        sums.iter_mut().for_each(RowSums::clear);
         // The guides' log-weights of one tap's run: the normal's (which each part raises to
         // its own exponent; NaN where the normals face apart: no weight) and the others'.
-        let (mut normal_log, mut others) = (vec![0.0; width], vec![0.0; width]);
-        let mut weights = vec![0.0; width];
+        let TapRuns {
+            normal_log,
+            others,
+            weights,
+        } = runs;
         // A row none of whose pixels listens to its neighbours' light seen directly (a row of
         // surfaces) skips that part's weights.
         let row_closed = self.openness[row..row + width].iter().all(|&o| o <= 0.0);
@@ -957,7 +1054,7 @@ impl<'a> Guide<'a> {
                 let (at, near) = (row + x0, (near_row + x0).wrapping_add_signed(offset));
                 if (dx, dy) == (2, 2) {
                     // The pixel itself: every part takes its own value.
-                    for (part, sums) in planes.iter().zip(&mut sums) {
+                    for (part, sums) in planes.iter().zip(sums.iter_mut()) {
                         for c in 0..3 {
                             let own = &part.lighting[c][at..at + run];
                             for (s, l) in sums.lighting[c][x0..x1].iter_mut().zip(own) {
@@ -1034,7 +1131,6 @@ impl<'a> Guide<'a> {
                 }
             }
         }
-        sums
     }
 
     /// The guides' log-weights of a run of `run` pixels from `at` against as many neighbours
