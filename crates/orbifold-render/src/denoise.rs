@@ -1032,9 +1032,14 @@ impl<'a> Guide<'a> {
             others,
             weights,
         } = runs;
-        // A row none of whose pixels listens to its neighbours' light seen directly (a row of
-        // surfaces) skips that part's weights.
-        let row_closed = self.openness[row..row + width].iter().all(|&o| o <= 0.0);
+        // The light seen directly is weighed only where the row's pixels listen to their
+        // neighbours' (openness > 0): elsewhere its weights are 0, so the part's runs are cut to
+        // the row's span of open pixels, and a row with none (a row of surfaces) skips it.
+        let openness = &self.openness[row..row + width];
+        let open_span = openness.iter().position(|&o| o > 0.0).map(|first| {
+            let last = openness.iter().rposition(|&o| o > 0.0).unwrap_or(first);
+            first..last + 1
+        });
         for (dy, ky) in KERNEL.iter().enumerate() {
             let yy = y as isize + (dy as isize - 2) * step as isize;
             if yy < 0 || yy >= self.height as isize {
@@ -1085,9 +1090,18 @@ impl<'a> Guide<'a> {
                         PartRule::Rest => o.sigma_normal_rest,
                     };
                     let seen = rules[k] == PartRule::SeenDirectly;
-                    if seen && row_closed {
-                        continue;
-                    }
+                    // The stretch of the run this part weighs: [x0 + skip, x0 + skip + run).
+                    let (skip, run) = if seen {
+                        let Some(span) = &open_span else { continue };
+                        let (from, to) = (span.start.max(x0), span.end.min(x1));
+                        if from >= to {
+                            continue;
+                        }
+                        (from - x0, to - from)
+                    } else {
+                        (0, run)
+                    };
+                    let (x0, x1, at, near) = (x0 + skip, x0 + skip + run, at + skip, near + skip);
                     let weights = &mut weights[..run];
                     {
                         let centre = &part.luminance[at..at + run];
@@ -1096,7 +1110,8 @@ impl<'a> Guide<'a> {
                         let near_luminance = &part.luminance[near..near + run];
                         let near_variance = &part.variance[near..near + run];
                         let near_open = &self.openness[near..near + run];
-                        let (normal_log, others) = (&normal_log[..run], &others[..run]);
+                        let (normal_log, others) =
+                            (&normal_log[skip..skip + run], &others[skip..skip + run]);
                         for t in 0..run {
                             let light = -(centre[t] - near_luminance[t]).abs() / tolerance[t];
                             let open = if seen { open[t] * near_open[t] } else { 1.0 };
