@@ -810,8 +810,7 @@ impl Planes {
     }
 }
 
-/// What a row's pass adds up for one part at each pixel: Σw·lighting, Σw and Σw²·variance;
-/// with the scratch runs of one tap's weights, a worker's memory for the rows it filters.
+/// What a row's pass adds up for one part at each pixel: Σw·lighting, Σw and Σw²·variance.
 struct RowSums {
     lighting: [Vec<f64>; 3],
     weights: Vec<f64>,
@@ -819,7 +818,8 @@ struct RowSums {
 }
 
 impl RowSums {
-    /// The sums of every part for a row of `width` pixels, with the tap's scratch runs.
+    /// A worker's memory for the rows of `width` pixels it filters: every part's sums, and one
+    /// tap's runs.
     fn zeroed(width: usize) -> ([RowSums; PARTS], TapRuns) {
         let sums = std::array::from_fn(|_| RowSums {
             lighting: [0, 1, 2].map(|_| vec![0.0; width]),
@@ -918,9 +918,9 @@ impl<'a> Guide<'a> {
         let (width, n) = (self.width, self.width * self.height);
         let mut planes = parts.each_ref().map(Planes::new);
         // Every pass reads `planes` and writes `next`, then the two swap: the planes, the
-        // tolerances and the rows' sums are allocated once for all passes (fresh memory each
-        // pass — a few hundred megabytes at 896² — cost more in page faults than the filter's
-        // own arithmetic in some passes).
+        // tolerances and the rows' sums are allocated once for all passes. (Fresh memory each
+        // pass, a few hundred megabytes at 896², and the planes assembled in one loop took a
+        // quarter of the denoiser's time: docs/benchmarks.md.)
         let mut next = planes.each_ref().map(|_| Planes::zeroed(n));
         let mut tolerance: [Vec<f64>; PARTS] = std::array::from_fn(|_| vec![0.0; n]);
         for pass in 0..self.options.passes {
