@@ -540,6 +540,33 @@ struct LightCandidate {
     weight: f64,
 }
 
+/// A candidate of a resampled light sample ([`Integrator::direct`]).
+#[derive(Clone, Copy, Debug)]
+// A few live in a fixed array on the stack per light sample: boxing the large one would allocate.
+#[allow(clippy::large_enum_variant)]
+enum Candidate {
+    /// Drawn in full: its point on the light is in its weight.
+    Drawn(LightCandidate),
+    /// A sphere light's, weighed from the light's centre ([`Integrator::sphere_weight`]): its
+    /// point is drawn, with these uniforms, only if it is kept.
+    Deferred {
+        index: usize,
+        pmf: f64,
+        point_uniforms: (f64, (f64, f64)),
+        weight: f64,
+    },
+}
+
+impl Candidate {
+    /// Its resampling weight.
+    fn weight(&self) -> f64 {
+        match self {
+            Candidate::Drawn(c) => c.weight,
+            Candidate::Deferred { weight, .. } => *weight,
+        }
+    }
+}
+
 /// A surface normal as the per-point light weights use it: its horizontal part (an ambient
 /// tangent vector at the point, of length √(1 − up²)) and its vertical part.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -1507,7 +1534,9 @@ impl Integrator {
     /// since each candidate alone is distributed as a plain light sample. Where the per-point
     /// weights misjudge an image (the scene-wide half of the distribution, the cosine at the
     /// light, the point on a sphere light's side) the candidates' mean averages it out, and the
-    /// noise left is mostly which candidate is blocked.
+    /// noise left is mostly which candidate is blocked. A sphere light's candidate is weighed
+    /// from the light's centre, and its point is drawn only if it is kept
+    /// ([`Integrator::sphere_weight`]).
     ///
     /// The multiple-importance weight against BSDF sampling uses the plain light sample's
     /// density on both sides (as [`Integrator::light_pdf`] does), so that the two weights of any
@@ -1557,13 +1586,23 @@ impl Integrator {
         let mut drawn = [None; LIGHT_CANDIDATES];
         let mut sum = 0.0;
         for (j, slot) in drawn.iter_mut().enumerate().take(candidates as usize) {
+            let (u, u_point, v) = uniforms(j as u32);
             *slot = self
-                .light_candidate(&at, (&weights, total), &mut aimed, uniforms(j as u32))
-                .and_then(|mut c| {
+                .pick_entry_with(&weights, total, u)
+                .and_then(|(index, pmf)| {
+                    if let Some(weight) = self.sphere_weight(&at, index, pmf) {
+                        return Some(Candidate::Deferred {
+                            index,
+                            pmf,
+                            point_uniforms: (u_point, v),
+                            weight,
+                        });
+                    }
+                    let mut c = self.candidate_at(&at, index, pmf, &mut aimed, (u_point, v))?;
                     c.weight = self.candidate_weight(&at, &c)?;
-                    Some(c)
+                    Some(Candidate::Drawn(c))
                 });
-            sum += slot.as_ref().map_or(0.0, |c| c.weight);
+            sum += slot.as_ref().map_or(0.0, Candidate::weight);
         }
         if !(sum > 0.0 && sum.is_finite()) {
             return [0.0; 3];
@@ -1572,16 +1611,70 @@ impl Integrator {
         let mut chosen = None;
         for candidate in drawn.iter().flatten() {
             chosen = Some(candidate);
-            if target < candidate.weight {
+            if target < candidate.weight() {
                 break;
             }
-            target -= candidate.weight;
+            target -= candidate.weight();
         }
         let Some(chosen) = chosen else {
             return [0.0; 3];
         };
-        let value = self.light_contribution(&at, chosen);
-        scale(value, sum / (f64::from(candidates) * chosen.weight))
+        let value = match *chosen {
+            Candidate::Drawn(ref c) => self.light_contribution(&at, c),
+            // Its point is drawn only now: it did not enter the weight.
+            Candidate::Deferred {
+                index,
+                pmf,
+                point_uniforms,
+                ..
+            } => self
+                .candidate_at(&at, index, pmf, &mut aimed, point_uniforms)
+                .map_or([0.0; 3], |c| self.light_contribution(&at, &c)),
+        };
+        scale(value, sum / (f64::from(candidates) * chosen.weight()))
+    }
+
+    /// The resampling weight of a sphere light's candidate worked out from the light's centre
+    /// alone, before any point on it is drawn: the luminance of the contribution of a small
+    /// sphere of the light's radiance and radius seen from the centre's direction, with the
+    /// image's bound on the mirrors' reflectance, over the light sample's density for it (the
+    /// entry's probability over the solid angle πr²/J the sphere fills). `None` for other
+    /// lights, and where the centre cannot light the point (part of the sphere still may: such
+    /// a candidate is drawn and weighed in full instead, so that every point that can be lit
+    /// keeps a positive weight).
+    ///
+    /// Resampling stays unbiased with this weight: the candidate's target density is this
+    /// weight times the entry's probability times the density of the point drawn on the light,
+    /// so the point does not change the weight and need only be drawn once the candidate is
+    /// kept. That saves the candidates that are not kept the light's per-point work (weighing
+    /// the sphere's hundreds of triangles for the point, drawing one and its normal).
+    fn sphere_weight(&self, at: &LitPoint, index: usize, pmf: f64) -> Option<f64> {
+        let space = self.space();
+        let entry = self.entries[index];
+        let light = &self.lights[entry.light];
+        let (radius, radiance) = light.sphere()?;
+        let image = &self.images.images[entry.image];
+        let centre = image.isometry * light.position;
+        let link = connect(
+            space,
+            at.frame,
+            (at.x, at.h),
+            (centre, light.height),
+            entry.turns,
+        )?;
+        let wi = travel_direction(space, at.frame, &link.ray, 0.0);
+        if !at.sides.agree(at.shading.normal(), wi) {
+            return None;
+        }
+        let wo = at.shading.to_local(at.sides.wo);
+        let wi_local = at.shading.to_local(wi);
+        let f = at.bsdf.eval(wo, wi_local);
+        let cos_x = wi.dot(at.shading.normal()).abs();
+        let pdf_light = pmf * link.spread / (std::f64::consts::PI * radius * radius);
+        let weight = power_heuristic(1.0, pdf_light, 1.0, at.bsdf.pdf(wo, wi_local));
+        let unblocked = scale(mul(f, image.reflectance), entry.attenuation);
+        let value = luminance(mul(unblocked, radiance)) * cos_x * weight / pdf_light;
+        (value > 0.0 && value.is_finite()).then_some(value)
     }
 
     /// One candidate of a light sample at `at` with `uniforms` (the choice of (light, image,
@@ -1594,8 +1687,21 @@ impl Integrator {
         aimed: &mut ArrayVec<(usize, AimedLight<'a>), LIGHT_CANDIDATES>,
         (u, u_point, v): (f64, f64, (f64, f64)),
     ) -> Option<LightCandidate> {
-        let space = self.space();
         let (index, pmf) = self.pick_entry_with(weights, total, u)?;
+        self.candidate_at(at, index, pmf, aimed, (u_point, v))
+    }
+
+    /// The candidate of entry `index` (picked with probability `pmf`) with the point on the
+    /// light that uniforms `u_point`, `v` draw, as [`Integrator::light_candidate`] gives it.
+    fn candidate_at<'a>(
+        &'a self,
+        at: &LitPoint,
+        index: usize,
+        pmf: f64,
+        aimed: &mut ArrayVec<(usize, AimedLight<'a>), LIGHT_CANDIDATES>,
+        (u_point, v): (f64, (f64, f64)),
+    ) -> Option<LightCandidate> {
+        let space = self.space();
         let entry = self.entries[index];
         let light = &self.lights[entry.light];
         let image = &self.images.images[entry.image];
