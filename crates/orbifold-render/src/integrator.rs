@@ -1174,8 +1174,9 @@ impl Integrator {
     /// The probability of `pick_entry` choosing `index`, given the per-point weights.
     fn entry_pmf(&self, index: usize, weights: &[f64; NEAR_MAX], total: f64, share: f64) -> f64 {
         let global = self.distribution.as_ref().map_or(0.0, |d| d.pmf(index));
-        let near = match self.near.iter().position(|&e| e == index) {
-            Some(i) if share > 0.0 => weights[i] / total,
+        // `near` lists its entries in increasing order (they are pushed as they are made).
+        let near = match self.near.binary_search(&index) {
+            Ok(i) if share > 0.0 => weights[i] / total,
             _ => 0.0,
         };
         share * near + (1.0 - share) * global
@@ -1654,12 +1655,11 @@ impl Integrator {
         let light = &self.lights[entry.light];
         let (radius, radiance) = light.sphere()?;
         let image = &self.images.images[entry.image];
-        let centre = image.isometry * light.position;
         let link = connect(
             space,
             at.frame,
             (at.x, at.h),
-            (centre, light.height),
+            (entry.position, entry.height),
             entry.turns,
         )?;
         let wi = travel_direction(space, at.frame, &link.ray, 0.0);
@@ -2548,5 +2548,75 @@ mod tests {
         flat.orbifold.signature = "*2222".into();
         let integrator = Integrator::from_scene(&flat, None, Settings::default()).unwrap();
         assert_eq!(integrator.reflectance_once_round(flat.room.height), 0.0);
+    }
+
+    #[test]
+    fn a_sphere_light_whose_centre_is_behind_the_surface_still_lights_it_through_resampling() {
+        // A sphere light's resampling candidates are weighed from its centre. Where the centre
+        // lies a little behind the surface while part of the sphere is in front, the candidate
+        // is drawn and weighed in full instead: the resampled estimate must keep that light.
+        // Without mirrors the light has one image, so losing it would lose all the light.
+        for (signature, tilt) in [("*2222", 0.05f64), ("*2223", 0.1), ("*444", 0.2)] {
+            let mut scene = orbifold_scene::Scene::default();
+            scene.orbifold.signature = signature.into();
+            scene.room.mirrors = orbifold_scene::MirrorDefault::None;
+            scene.lights[0].kind = orbifold_scene::LightKind::Sphere;
+            scene.lights[0].radius = 0.2;
+            let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+            let space = integrator.space();
+            let light = &integrator.lights[0];
+            // A point 0.6 from the light's centre at its height, tilted so that the centre is
+            // `tilt` radians below its horizon (the sphere's angular radius is about 0.34).
+            let away = space.transport(DVec3::Z, light.position, DVec3::new(0.6, 0.0, 0.0));
+            let x = space.exp(light.position, away);
+            let frame = TangentFrame::at(space, x);
+            let link = connect(
+                space,
+                &frame,
+                (x, light.height),
+                (light.position, light.height),
+                0,
+            )
+            .unwrap();
+            let towards = travel_direction(space, &frame, &link.ray, 0.0);
+            let normal = (DVec3::Z * tilt.cos() - towards * tilt.sin()).normalize();
+            assert!(normal.dot(towards) < 0.0);
+            let shading = Frame::from_normal(normal);
+            let sides = Sides {
+                geometric: normal,
+                wo: normal,
+            };
+            let bsdf = Bsdf::Diffuse { albedo: [0.8; 3] };
+            let estimate = |candidates: u32| {
+                let n = 4000;
+                let (mut sum, mut squares) = (0.0, 0.0);
+                for i in 0..n {
+                    let mut sampler = Sampler::new(7, 0, i);
+                    sampler.start_bounce(0);
+                    let value = luminance(integrator.direct(
+                        &mut sampler,
+                        x,
+                        light.height,
+                        &frame,
+                        &shading,
+                        &sides,
+                        &bsdf,
+                        candidates,
+                    ));
+                    sum += value;
+                    squares += value * value;
+                }
+                let mean = sum / n as f64;
+                (mean, ((squares / n as f64 - mean * mean) / n as f64).sqrt())
+            };
+            let (plain, plain_error) = estimate(1);
+            let (resampled, resampled_error) = estimate(4);
+            assert!(plain > 0.0, "{signature}: the sphere lights the point");
+            let tolerance = 4.0 * (plain_error.powi(2) + resampled_error.powi(2)).sqrt();
+            assert!(
+                (plain - resampled).abs() < tolerance,
+                "{signature}: plain {plain} ± {plain_error}, resampled {resampled} ± {resampled_error}"
+            );
+        }
     }
 }
