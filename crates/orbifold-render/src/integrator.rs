@@ -1584,11 +1584,12 @@ impl Integrator {
                 .light_candidate(&at, (&weights, total), &mut aimed, uniforms(0))
                 .map_or([0.0; 3], |c| self.light_contribution(&at, &c));
         }
-        let mut drawn = [None; LIGHT_CANDIDATES];
+        // Only the candidates that can light the point, in order (no slots to initialise).
+        let mut drawn = ArrayVec::<Candidate, LIGHT_CANDIDATES>::new();
         let mut sum = 0.0;
-        for (j, slot) in drawn.iter_mut().enumerate().take(candidates as usize) {
-            let (u, u_point, v) = uniforms(j as u32);
-            *slot = self
+        for j in 0..candidates {
+            let (u, u_point, v) = uniforms(j);
+            let candidate = self
                 .pick_entry_with(&weights, total, u)
                 .and_then(|(index, pmf)| {
                     if let Some(weight) = self.sphere_weight(&at, index, pmf) {
@@ -1603,14 +1604,17 @@ impl Integrator {
                     c.weight = self.candidate_weight(&at, &c)?;
                     Some(Candidate::Drawn(c))
                 });
-            sum += slot.as_ref().map_or(0.0, Candidate::weight);
+            if let Some(candidate) = candidate {
+                sum += candidate.weight();
+                drawn.push(candidate);
+            }
         }
         if !(sum > 0.0 && sum.is_finite()) {
             return [0.0; 3];
         }
         let mut target = sampler.next_independent_f64() * sum;
         let mut chosen = None;
-        for candidate in drawn.iter().flatten() {
+        for candidate in &drawn {
             chosen = Some(candidate);
             if target < candidate.weight() {
                 break;
