@@ -25,8 +25,8 @@ use crate::flat::{flatten_light, flatten_tracer};
 use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use crate::geodesic::Ray;
 use crate::light::{
-    AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, connect,
-    reflection_matrix, spread, travel_direction, turned,
+    AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, aim_at,
+    connect, reflection_matrix, spread, travel_direction, turned,
 };
 use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
 use crate::room::RoomSurface;
@@ -1659,14 +1659,13 @@ impl Integrator {
         let light = &self.lights[entry.light];
         let (radius, radiance) = light.sphere()?;
         let image = &self.images.images[entry.image];
-        let link = connect(
+        let (wi, j) = aim_at(
             space,
             at.frame,
             (at.x, at.h),
             (entry.position, entry.height),
             entry.turns,
         )?;
-        let wi = travel_direction(space, at.frame, &link.ray, 0.0);
         if !at.sides.agree(at.shading.normal(), wi) {
             return None;
         }
@@ -1674,7 +1673,7 @@ impl Integrator {
         let wi_local = at.shading.to_local(wi);
         let f = at.bsdf.eval(wo, wi_local);
         let cos_x = wi.dot(at.shading.normal()).abs();
-        let pdf_light = pmf * link.spread / (std::f64::consts::PI * radius * radius);
+        let pdf_light = pmf * j / (std::f64::consts::PI * radius * radius);
         let weight = power_heuristic(1.0, pdf_light, 1.0, at.bsdf.pdf(wo, wi_local));
         let unblocked = scale(mul(f, image.reflectance), entry.attenuation);
         let value = luminance(mul(unblocked, radiance)) * cos_x * weight / pdf_light;

@@ -196,6 +196,49 @@ pub fn connect(
     })
 }
 
+/// What [`connect`] and [`travel_direction`] give of the geodesic from (x, hx) to (y, hy) with
+/// `turns` half-turns, without building its ray: the direction it leaves x in (unit, local to
+/// `frame`) and its J ([`spread`]). `None` where [`connect`] has no geodesic.
+///
+/// ```
+/// use glam::DVec3;
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_render::light::{TangentFrame, aim_at, connect, travel_direction};
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// let x = h2.exp(DVec3::Z, DVec3::new(0.3, -0.2, 0.0));
+/// let y = h2.exp(DVec3::Z, DVec3::new(-0.5, 0.4, 0.0));
+/// let frame = TangentFrame::at(h2, x);
+/// let (wi, j) = aim_at(h2, &frame, (x, 0.1), (y, 0.7), 0).unwrap();
+/// let link = connect(h2, &frame, (x, 0.1), (y, 0.7), 0).unwrap();
+/// assert!((wi - travel_direction(h2, &frame, &link.ray, 0.0)).length() < 1e-12);
+/// assert!((j - link.spread).abs() < 1e-12 * j);
+/// ```
+pub fn aim_at(
+    space: Space,
+    frame: &TangentFrame,
+    (x, hx): (DVec3, f64),
+    (y, hy): (DVec3, f64),
+    turns: u32,
+) -> Option<(DVec3, f64)> {
+    if turns > 0 && space.kappa() <= 0.0 {
+        return None;
+    }
+    let d = space.ambient_distance(x, y);
+    if d < 1e-12 {
+        let link = connect(space, frame, (x, hx), (y, hy), turns)?;
+        return Some((travel_direction(space, frame, &link.ray, 0.0), link.spread));
+    }
+    let (sigma, back) = turned(d, turns);
+    let u = space.log(x, y) / if back { -d } else { d };
+    let dh = hy - hx;
+    let length = (sigma * sigma + dh * dh).sqrt();
+    if !(length > 1e-12 && length.is_finite()) {
+        return None;
+    }
+    let direction = frame.to_local(space, u * (sigma / length), dh / length);
+    Some((direction.normalize(), spread(space, length, sigma)))
+}
+
 /// The reflection across a wall (normalised linear form ν) as an ambient matrix:
 /// x ↦ x − 2(ν·x)Gν.
 pub fn reflection_matrix(space: Space, nu: DVec3) -> DMat3 {

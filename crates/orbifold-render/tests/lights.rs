@@ -2,7 +2,7 @@
 //! the light before it (so the renderer leaves the light's own mesh out of that ray's tests).
 
 use num_complex::Complex64;
-use orbifold_render::light::{Emitter, Light, TangentFrame, connect};
+use orbifold_render::light::{Emitter, Light, TangentFrame, aim_at, connect, travel_direction};
 use orbifold_scene::{LightKind, Scene};
 use proptest::prelude::*;
 
@@ -113,6 +113,36 @@ proptest! {
                 "triangle {triangle} met first from {:.3} away is never sampled",
                 distance * reach
             );
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    #[test]
+    fn aiming_at_a_point_agrees_with_the_connection_to_it(
+        geometry in 0usize..3,
+        a in (-0.8f64..0.8, -0.8f64..0.8, 0.0f64..1.0),
+        b in (-0.8f64..0.8, -0.8f64..0.8, 0.0f64..1.0),
+        turns in 0u32..4,
+    ) {
+        // The light sample's weights aim at a light's centre without building the ray: the
+        // same direction and J as the connection's, in every geometry and, on the sphere,
+        // every way round.
+        let space = orbifold::space::Space::new(
+            [orbifold::Geometry::Spherical, orbifold::Geometry::Euclidean, orbifold::Geometry::Hyperbolic][geometry],
+        );
+        let origin = space.to_ambient(Complex64::new(0.0, 0.0));
+        let x = space.exp(origin, glam::DVec3::new(a.0, a.1, 0.0));
+        let y = space.exp(origin, glam::DVec3::new(b.0, b.1, 0.0));
+        let frame = TangentFrame::at(space, x);
+        let aimed = aim_at(space, &frame, (x, a.2), (y, b.2), turns);
+        let link = connect(space, &frame, (x, a.2), (y, b.2), turns);
+        prop_assert_eq!(aimed.is_some(), link.is_some());
+        if let (Some((direction, j)), Some(link)) = (aimed, link) {
+            let expected = travel_direction(space, &frame, &link.ray, 0.0);
+            prop_assert!((direction - expected).length() < 1e-9, "{direction} {expected}");
+            prop_assert!((j - link.spread).abs() <= 1e-9 * (1.0 + j), "{j} {}", link.spread);
         }
     }
 }
