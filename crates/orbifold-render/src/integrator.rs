@@ -542,7 +542,7 @@ struct LightCandidate {
 
 /// A candidate of a resampled light sample ([`Integrator::direct`]).
 #[derive(Clone, Copy, Debug)]
-// A few live in a fixed array on the stack per light sample: boxing the large one would allocate.
+// A few live in an ArrayVec on the stack per light sample: boxing the large one would allocate.
 #[allow(clippy::large_enum_variant)]
 enum Candidate {
     /// Drawn in full: its point on the light is in its weight.
