@@ -168,32 +168,55 @@ pub fn connect(
     (y, hy): (DVec3, f64),
     turns: u32,
 ) -> Option<Connection> {
-    if turns > 0 && space.kappa() <= 0.0 {
-        return None;
-    }
-    let d = space.ambient_distance(x, y);
-    let (u, sigma) = if d < 1e-12 {
-        // Every way round leads back to x (a focus): only the straight connection is one.
-        if turns > 0 {
+    let way = Way::new(space, frame, (x, hx), (y, hy), turns)?;
+    Some(Connection {
+        ray: Ray::climbing(space, x, way.u, hx, way.sigma, way.dh),
+        length: way.length,
+        sigma: way.sigma,
+        spread: spread(space, way.length, way.sigma),
+    })
+}
+
+/// The geodesic of [`connect`] before its ray is built: the unit horizontal direction `u` it
+/// leaves x in (ambient), its horizontal length σ, its rise and its arc length.
+struct Way {
+    u: DVec3,
+    sigma: f64,
+    dh: f64,
+    length: f64,
+}
+
+impl Way {
+    fn new(
+        space: Space,
+        frame: &TangentFrame,
+        (x, hx): (DVec3, f64),
+        (y, hy): (DVec3, f64),
+        turns: u32,
+    ) -> Option<Way> {
+        if turns > 0 && space.kappa() <= 0.0 {
             return None;
         }
-        (frame.e1, 0.0)
-    } else {
-        let u = space.log(x, y) / d;
-        let (sigma, back) = turned(d, turns);
-        (if back { -u } else { u }, sigma)
-    };
-    let dh = hy - hx;
-    let length = (sigma * sigma + dh * dh).sqrt();
-    if !(length > 1e-12 && length.is_finite()) {
-        return None;
+        let d = space.ambient_distance(x, y);
+        let (u, sigma) = if d < 1e-12 {
+            // Every way round leads back to x (a focus): only the straight connection is one.
+            if turns > 0 {
+                return None;
+            }
+            (frame.e1, 0.0)
+        } else {
+            let (sigma, back) = turned(d, turns);
+            (space.log(x, y) / if back { -d } else { d }, sigma)
+        };
+        let dh = hy - hx;
+        let length = (sigma * sigma + dh * dh).sqrt();
+        (length > 1e-12 && length.is_finite()).then_some(Way {
+            u,
+            sigma,
+            dh,
+            length,
+        })
     }
-    Some(Connection {
-        ray: Ray::climbing(space, x, u, hx, sigma, dh),
-        length,
-        sigma,
-        spread: spread(space, length, sigma),
-    })
 }
 
 /// What [`connect`] and [`travel_direction`] give of the geodesic from (x, hx) to (y, hy) with
@@ -220,23 +243,10 @@ pub fn aim_at(
     (y, hy): (DVec3, f64),
     turns: u32,
 ) -> Option<(DVec3, f64)> {
-    if turns > 0 && space.kappa() <= 0.0 {
-        return None;
-    }
-    let d = space.ambient_distance(x, y);
-    if d < 1e-12 {
-        let link = connect(space, frame, (x, hx), (y, hy), turns)?;
-        return Some((travel_direction(space, frame, &link.ray, 0.0), link.spread));
-    }
-    let (sigma, back) = turned(d, turns);
-    let u = space.log(x, y) / if back { -d } else { d };
-    let dh = hy - hx;
-    let length = (sigma * sigma + dh * dh).sqrt();
-    if !(length > 1e-12 && length.is_finite()) {
-        return None;
-    }
-    let direction = frame.to_local(space, u * (sigma / length), dh / length);
-    Some((direction.normalize(), spread(space, length, sigma)))
+    let way = Way::new(space, frame, (x, hx), (y, hy), turns)?;
+    let (cos, sin) = (way.sigma / way.length, way.dh / way.length);
+    let direction = frame.to_local(space, way.u * cos, sin);
+    Some((direction.normalize(), spread(space, way.length, way.sigma)))
 }
 
 /// The reflection across a wall (normalised linear form ν) as an ambient matrix:
