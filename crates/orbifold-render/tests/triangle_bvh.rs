@@ -282,7 +282,12 @@ proptest! {
             let ours = tri.intersect(space, &ray, 0.0, 5.0);
             match (ours, mt) {
                 (Some(c), Some((t, b1, b2))) => {
-                    prop_assert!((c.s - t).abs() < 1e-12 * (1.0 + t), "{} vs {t}", c.s);
+                    // Both solutions err by about ε/|cos θ| (θ between the ray and the normal):
+                    // a glancing ray's crossing is ill-conditioned whoever computes it.
+                    let n = (v[1] - v[0]).cross(v[2] - v[0]);
+                    let cos = (n.dot(d) / (n.length() * d.length())).abs();
+                    let tolerance = 1e-12 * (1.0 + t) / cos.max(1e-3);
+                    prop_assert!((c.s - t).abs() < tolerance, "{} vs {t} (cos θ {cos})", c.s);
                     prop_assert!((c.barycentric[1] - b1).abs() < 1e-9 && (c.barycentric[2] - b2).abs() < 1e-9);
                 }
                 (None, None) => {}
