@@ -1404,7 +1404,7 @@ mod tests {
     #[test]
     fn the_hyperbolic_disc_span_is_the_exact_one_or_a_hair_wider() {
         let space = Space::new(Geometry::Hyperbolic);
-        let mut rnd = uniforms(2026_11_27);
+        let mut rnd = uniforms(20261127);
         let (mut met, mut missed) = (0, 0);
         for _ in 0..4000 {
             let c = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * 1.5);
