@@ -206,7 +206,18 @@ impl Way {
             (frame.e1, 0.0)
         } else {
             let (sigma, back) = turned(d, turns);
-            (space.log(x, y) / if back { -d } else { d }, sigma)
+            // The unit tangent towards y, y − C(d)·x normalised, with C(d) = 1 − κV from the
+            // chord (V = ½|y − x|²_κ): `Space::log` over d, without its second inverse function
+            // for d and its C(d).
+            let chord = y - x;
+            let t = y - x * (1.0 - 0.5 * space.kappa() * space.point_dot(chord, chord));
+            let n = space.point_dot(t, t).max(0.0).sqrt();
+            let u = if n == 0.0 {
+                DVec3::ZERO
+            } else {
+                t / if back { -n } else { n }
+            };
+            (u, sigma)
         };
         let dh = hy - hx;
         let length = (sigma * sigma + dh * dh).sqrt();

@@ -146,3 +146,37 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    #[test]
+    fn a_connection_arrives_at_its_end_every_way_round(
+        geometry in 0usize..3,
+        a in (-1.2f64..1.2, -1.2f64..1.2, 0.0f64..1.0),
+        b in (-1.2f64..1.2, -1.2f64..1.2, 0.0f64..1.0),
+        near in proptest::bool::ANY,
+        turns in 0u32..4,
+    ) {
+        // The geodesic `connect` builds reaches (y, hy) after its arc length: the direction it
+        // leaves x in and its length agree, in every geometry, every way round the sphere,
+        // and for end points a hair apart.
+        let space = orbifold::space::Space::new(
+            [orbifold::Geometry::Spherical, orbifold::Geometry::Euclidean, orbifold::Geometry::Hyperbolic][geometry],
+        );
+        let origin = space.to_ambient(Complex64::new(0.0, 0.0));
+        let x = space.exp(origin, glam::DVec3::new(a.0, a.1, 0.0));
+        let step = if near { 1e-6 } else { 1.0 };
+        let y = space.exp(origin, glam::DVec3::new(a.0 + step * b.0, a.1 + step * b.1, 0.0));
+        let frame = TangentFrame::at(space, x);
+        if let Some(link) = connect(space, &frame, (x, a.2), (y, b.2), turns) {
+            let (end, h) = link.ray.point_at(space, link.length);
+            let scale = 1e-9 * (1.0 + link.length);
+            prop_assert!(space.ambient_distance(end, y) < scale, "{end} {y} ({turns} turns)");
+            prop_assert!((h - b.2).abs() < scale, "{h} {}", b.2);
+        } else {
+            // Only the sphere's geodesics come round; a point is a focus of every way round it.
+            let same = space.ambient_distance(x, y) < 1e-12;
+            prop_assert!(turns > 0 && (geometry != 0 || same) || same && a.2 == b.2);
+        }
+    }
+}
