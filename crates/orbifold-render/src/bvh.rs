@@ -1,12 +1,35 @@
 //! A bounding volume hierarchy for curved rays (DESIGN.md §8).
 //!
-//! Bounds are **geodesic discs × height intervals**: a centre c (ambient), an intrinsic radius r and
-//! [h_min, h_max]. They are invariant under isometries, so a mesh's BVH never changes when the mesh
-//! is moved (see [`crate::instance`]). A triangle's footprint lies in the geodesic convex hull of
-//! its vertices, and a geodesic disc is convex (on the sphere when r < π/2; larger bounds are
-//! replaced by the whole sphere), so a disc that contains a node's vertices contains its triangles.
+//! **Bounds.** Each node's children are bounded by **boxes in the mesh's gnomonic chart ×
+//! height intervals**. The chart ([`Chart`]) about the mesh's centre c sends a point x to
+//! (⟨x − c, e₁⟩, ⟨x − c, e₂⟩)/C(d(x, c)): the Beltrami–Klein model on H², the gnomonic
+//! projection of the hemisphere about c on S², the plane itself on E². In all three it takes
+//! geodesics to straight lines, so a triangle's footprint is the straight triangle of its
+//! vertices' chart points, a node's box is the box of its vertices' chart points (exact, padded
+//! by 10⁻⁹ and rounded outwards to f32), and a ray's horizontal geodesic crosses a box on one
+//! interval of a straight line. The boxes live in the mesh's own frame, so a mesh's BVH never
+//! changes when the mesh is moved (see [`crate::instance`]).
 //!
-//! **Ray–bound test (closed form).** Let v = J u be the unit tangent at the ray's origin p
+//! **Ray–box test.** A ray is taken once per traversal from the foot of the perpendicular from
+//! c to its geodesic (`ChartRay`): there its chart point is affine in T = S(σ')/C(σ') (tan σ',
+//! σ', tanh σ' of the horizontal distance σ' from the foot), so each of a box's two slabs is
+//! an interval of T found by one multiply-add per side — no square root, division or
+//! logarithm. A point of the geodesic within the mesh's radius R of c is within R of the foot,
+//! so T is clamped to |T| ≤ T(R); there T⁻¹ is bounded from below at the interval's start and
+//! from above at its end by odd polynomials (artanh T between T + T³/3 and that plus
+//! T⁵/(5(1 − T(R)²)); arctan T between T − T³/3 and that plus T⁵/5; σ' = T on E²), which widen
+//! the interval by at most K·T(R)⁵ (5·10⁻⁴ for the dragon of `*444`, whose R is about ⅓). The
+//! σ-interval is then cut by the height slab and the ray's current [s_min, s_best] as before;
+//! on S² its first repetition (period 2π) after s_min is taken.
+//!
+//! **Discs, where there is no chart.** Every node also keeps its children's **geodesic discs**
+//! ([`Discs`], apart from the nodes so that the traversal reads two cache lines a node, not
+//! three). They are tested instead of the boxes by vertical rays (a point of the chart), and
+//! for a mesh too wide for a chart (a vertex more than about 84° from the centre on S², where
+//! the gnomonic picture ends at the hemisphere's edge, or 3.8 on H², where the bound on artanh
+//! grows without limit). A disc with centre c and intrinsic radius r is convex (on the sphere
+//! when r < π/2; larger bounds are replaced by the whole sphere), so a disc that contains a
+//! node's vertices contains its triangles. Let v = J u be the unit tangent at the ray's origin p
 //! perpendicular to its horizontal direction u. The distance d⊥ from c to the ray's horizontal
 //! geodesic has S(d⊥) = ⟨c − p, v⟩ =: γ, and with V(d) = ½|x − c|²_κ (1 − cos d, d²/2, cosh d − 1)
 //! the point at horizontal distance σ is inside the disc iff V(σ − σ_c) ≤ (V(r) − V(d⊥))/C(d⊥)
@@ -14,11 +37,10 @@
 //! C(d⊥) = √(1 − κγ²) are computed without cancellation. The first comparison, V(d⊥) ≤ V(r),
 //! needs no transcendental function; then the half-width w and the foot σ_c give a σ-interval,
 //! which is intersected with the height slab's interval and the ray's current [s_min, s_best].
-//! On H² (the Table 8.1 rooms that take longest) the test is cheaper still: sinh²w comes
-//! straight from cosh w = cosh r / cosh d⊥, w is bounded from above by a short series rather
-//! than taken exactly, and σ_c is half the logarithm of (cosh d(p, c) + |⟨c, u⟩|)²/cosh²d⊥ —
-//! one division, one square root and one logarithm a bound, where the general form takes three
-//! square roots, two divisions and two logarithms (see `hyperbolic_span`).
+//! On H² the disc test is cheaper still: sinh²w comes straight from cosh w = cosh r / cosh d⊥,
+//! w is bounded from above by a short series rather than taken exactly, and σ_c is half the
+//! logarithm of (cosh d(p, c) + |⟨c, u⟩|)²/cosh²d⊥ — one division, one square root and one
+//! logarithm a bound (see `hyperbolic_span`). The root's disc is the first test of every ray.
 //!
 //! **Build.** Top-down binned SAH over the triangles' vertices in tangent coordinates at the mesh's
 //! centre (`Space::log`) and height, costed by the area of the vertical cylinder around each
@@ -26,13 +48,14 @@
 //! whose discs are wide; 2-3 % fewer nodes and triangles visited in `*444`), leaves of at most four triangles, subtrees built in parallel
 //! with rayon above a size. The binary tree is then collapsed into a 4-wide one (each node takes
 //! its two children, then the largest inner child's two in its place, until it has four): a flat
-//! array of 192-byte nodes that hold their four children's bounds side by side.
+//! array of 128-byte nodes that hold their four children's boxes and heights side by side, and
+//! beside it the array of their discs.
 //!
 //! **Traversal.** A node's four bounds are tested at once: away from vertical rays the test is
-//! straight-line arithmetic (selects for its branches, and `fastmath`'s logarithm and arc
+//! straight-line arithmetic (selects for its branches; for discs, `fastmath`'s logarithm and arc
 //! tangent, which have no branches and a stated error that the bounds are widened by), so the
-//! compiler runs the four lanes in SIMD registers and the processor overlaps their square roots
-//! and divisions — where a binary tree waits for one bound test after another. The children met
+//! compiler runs the four lanes in SIMD registers — where a binary tree waits for one bound test
+//! after another. The children met
 //! go on the stack farthest first; nearest hits prune the rest (`intersect`), any hit ends the
 //! search (`occluded`).
 
@@ -67,16 +90,18 @@ const WIDTH: usize = 4;
 
 /// A node: up to four children's bounds side by side (a structure of arrays, so that one pass of
 /// straight-line arithmetic tests all four), and for each child either the index of its node or
-/// its leaf's triangle range. An empty slot has reach −∞, which every ray misses.
+/// its leaf's triangle range. The bounds are boxes in the mesh's chart × height intervals
+/// (what the traversal tests, two cache lines); their discs, for meshes without a chart and for
+/// vertical rays, are kept apart ([`Discs`]). An empty slot has an empty box and reach −∞,
+/// which every ray misses.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct Node {
-    /// Ambient centres of the discs.
-    x: [f64; WIDTH],
-    y: [f64; WIDTH],
-    z: [f64; WIDTH],
-    /// V(r) = ½|x − c|²_κ at the (slightly enlarged) radii; +∞ for the whole plane.
-    reach: [f64; WIDTH],
+    /// The children's boxes in the mesh's gnomonic chart ([`Chart`]), rounded outwards to f32.
+    gx_lo: [f32; WIDTH],
+    gx_hi: [f32; WIDTH],
+    gy_lo: [f32; WIDTH],
+    gy_hi: [f32; WIDTH],
     /// Height intervals, rounded outwards to f32.
     h_lo: [f32; WIDTH],
     h_hi: [f32; WIDTH],
@@ -86,12 +111,24 @@ struct Node {
     count: [u32; WIDTH],
 }
 
+/// A node's children's bounding discs (same slots as its [`Node`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
+struct Discs {
+    /// Ambient centres of the discs.
+    x: [f64; WIDTH],
+    y: [f64; WIDTH],
+    z: [f64; WIDTH],
+    /// V(r) = ½|x − c|²_κ at the (slightly enlarged) radii; +∞ for the whole plane.
+    reach: [f64; WIDTH],
+}
+
 impl Node {
     const EMPTY: Node = Node {
-        x: [0.0; WIDTH],
-        y: [0.0; WIDTH],
-        z: [1.0; WIDTH],
-        reach: [f64::NEG_INFINITY; WIDTH],
+        gx_lo: [f32::INFINITY; WIDTH],
+        gx_hi: [f32::NEG_INFINITY; WIDTH],
+        gy_lo: [f32::INFINITY; WIDTH],
+        gy_hi: [f32::NEG_INFINITY; WIDTH],
         h_lo: [f32::INFINITY; WIDTH],
         h_hi: [f32::NEG_INFINITY; WIDTH],
         index: [0; WIDTH],
@@ -100,23 +137,42 @@ impl Node {
 
     /// Puts a child's bound in `slot`.
     fn set(&mut self, slot: usize, bound: &Bound, index: u32, count: u32) {
-        self.x[slot] = bound.centre.x;
-        self.y[slot] = bound.centre.y;
-        self.z[slot] = bound.centre.z;
-        self.reach[slot] = bound.reach;
         self.h_lo[slot] = f32_below(bound.h_lo);
         self.h_hi[slot] = f32_above(bound.h_hi);
         self.index[slot] = index;
         self.count[slot] = count;
+        self.gx_lo[slot] = f32_below(bound.chart_lo[0]);
+        self.gx_hi[slot] = f32_above(bound.chart_hi[0]);
+        self.gy_lo[slot] = f32_below(bound.chart_lo[1]);
+        self.gy_hi[slot] = f32_above(bound.chart_hi[1]);
+    }
+}
+
+impl Discs {
+    const EMPTY: Discs = Discs {
+        x: [0.0; WIDTH],
+        y: [0.0; WIDTH],
+        z: [1.0; WIDTH],
+        reach: [f64::NEG_INFINITY; WIDTH],
+    };
+
+    /// Puts a child's disc in `slot`.
+    fn set(&mut self, slot: usize, bound: &Bound) {
+        self.x[slot] = bound.centre.x;
+        self.y[slot] = bound.centre.y;
+        self.z[slot] = bound.centre.z;
+        self.reach[slot] = bound.reach;
     }
 
-    /// The bound in `slot`.
-    fn bound(&self, slot: usize) -> Bound {
+    /// The bound in `slot` of `node`.
+    fn bound(&self, node: &Node, slot: usize) -> Bound {
         Bound {
             centre: DVec3::new(self.x[slot], self.y[slot], self.z[slot]),
             reach: self.reach[slot],
-            h_lo: f64::from(self.h_lo[slot]),
-            h_hi: f64::from(self.h_hi[slot]),
+            h_lo: f64::from(node.h_lo[slot]),
+            h_hi: f64::from(node.h_hi[slot]),
+            chart_lo: [f64::from(node.gx_lo[slot]), f64::from(node.gy_lo[slot])],
+            chart_hi: [f64::from(node.gx_hi[slot]), f64::from(node.gy_hi[slot])],
         }
     }
 }
@@ -137,6 +193,9 @@ pub(crate) struct Bound {
     pub(crate) reach: f64,
     pub(crate) h_lo: f64,
     pub(crate) h_hi: f64,
+    /// The box of the vertices in the mesh's gnomonic chart (empty where there is none).
+    pub(crate) chart_lo: [f64; 2],
+    pub(crate) chart_hi: [f64; 2],
 }
 
 /// A BVH over a triangle mesh whose bounds are geodesic discs × height intervals.
@@ -169,8 +228,11 @@ pub struct Bvh {
     /// The root's bound as a node's slot 0 (the other slots empty), so that a ray enters it
     /// by the four-lane test: the fast functions rather than the library's.
     root_node: Node,
+    root_discs: Discs,
     /// Node 0 holds the root's children.
     nodes: Vec<Node>,
+    /// The nodes' discs, in the same order.
+    discs: Vec<Discs>,
     /// Triangles in leaf order, prepared for ray tests.
     prepared: Vec<PreparedTriangle>,
     /// For each prepared triangle, its index in the input.
@@ -184,6 +246,8 @@ pub struct Bvh {
     depth: usize,
     /// Smooth shading normals (none: every face is shaded flat).
     shading: Option<VertexNormals>,
+    /// The chart the nodes' boxes are in (`None`: the nodes are tested by their discs).
+    chart: Option<Chart>,
 }
 
 /// Where a ray's horizontal geodesic is inside a disc, in horizontal distance σ.
@@ -318,6 +382,166 @@ fn height_slab(
         hi = hi.min(t1.max(t2));
     }
     (lo <= hi).then_some((lo, hi))
+}
+
+/// The mesh's gnomonic chart: centre c, an orthonormal tangent frame (e₁, e₂) there, and
+/// g(x) = (⟨x − c, e₁⟩, ⟨x − c, e₂⟩)/C(d(x, c)), with C(d) = 1 − κ·½|x − c|²_κ (cos, 1, cosh).
+/// It takes geodesics to straight lines in all three geometries (the Beltrami–Klein model on
+/// H², the gnomonic projection of the open hemisphere about c on S², the identity on E²), so a
+/// node's footprint box in it is met by a ray's horizontal geodesic on an interval of a
+/// straight line, which a slab test finds with no square root, division or logarithm.
+///
+/// A ray is taken from the foot of the perpendicular from c to its geodesic
+/// ([`ChartRay`]): there the chart point is affine in T = S(σ')/C(σ') (tan, identity, tanh of
+/// the horizontal distance σ' from the foot), and T⁻¹ is bounded from both sides by short
+/// odd polynomials on |T| ≤ T(R), R the radius about c that holds every vertex (a point of
+/// the geodesic within R of c is within R of the foot).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Chart {
+    kappa: f64,
+    centre: DVec3,
+    frame: [DVec3; 2],
+    /// T(R), widened.
+    t_max: f64,
+    /// The coefficient K of the bound T + T³/3 + K·T⁵ (H²: 1/(5(1 − T(R)²)); S²: 1/5 for
+    /// T − T³/3 + T⁵/5; E²: 0, where σ' = T).
+    quintic: f64,
+}
+
+impl Chart {
+    /// The chart about `centre` for a mesh with these vertices; `None` when a vertex is too far
+    /// from the centre for the chart (on S², more than about 84° away; on H², 3.8).
+    fn new(
+        space: Space,
+        centre: DVec3,
+        vertices: impl IntoIterator<Item = DVec3>,
+    ) -> Option<Chart> {
+        let kappa = space.kappa();
+        let mut chart = Chart {
+            kappa,
+            centre,
+            frame: space.tangent_frame(centre),
+            t_max: 0.0,
+            quintic: 0.0,
+        };
+        let mut t_max = 0.0f64;
+        for v in vertices {
+            let [x, y] = chart.coords(v)?;
+            t_max = t_max.max(x.hypot(y));
+        }
+        let t_max = t_max * (1.0 + 1e-9) + 1e-12;
+        if !t_max.is_finite() || (kappa > 0.0 && t_max > 10.0) || (kappa < 0.0 && t_max > 0.999) {
+            return None;
+        }
+        chart.t_max = t_max;
+        chart.quintic = if kappa < 0.0 {
+            1.0 / (5.0 * (1.0 - t_max * t_max))
+        } else if kappa > 0.0 {
+            0.2
+        } else {
+            0.0
+        };
+        Some(chart)
+    }
+
+    #[inline(always)]
+    fn dot(&self, a: DVec3, b: DVec3) -> f64 {
+        a.x * b.x + a.y * b.y + self.kappa * a.z * b.z
+    }
+
+    /// The chart point of x; `None` on the far hemisphere of S² (and its edge).
+    fn coords(&self, x: DVec3) -> Option<[f64; 2]> {
+        let d = x - self.centre;
+        let denom = 1.0 - 0.5 * self.kappa * self.dot(d, d);
+        let g = [
+            self.dot(d, self.frame[0]) / denom,
+            self.dot(d, self.frame[1]) / denom,
+        ];
+        (denom > 0.0 && g[0].is_finite() && g[1].is_finite()).then_some(g)
+    }
+}
+
+/// A ray seen in a [`Chart`], from the foot of the perpendicular from its centre: the chart
+/// point at T = S(σ')/C(σ') is (a + b·T)/C(d⊥) on each axis, so the T at which axis i reads v
+/// is v·`scale[i]` − `shift[i]`.
+#[derive(Clone, Copy, Debug)]
+struct ChartRay {
+    /// σ of the foot (from the ray's origin).
+    foot: f64,
+    scale: [f64; 2],
+    shift: [f64; 2],
+    /// How far T may be off on each axis (rounding, grown with the distance to the foot).
+    pad: [f64; 2],
+    /// Axes along which the line barely moves: not used to cull.
+    free: [bool; 2],
+    t_max: f64,
+    cubic: f64,
+    quintic: f64,
+}
+
+impl ChartRay {
+    /// `None` for a vertical ray (a point of the chart) or a great circle that misses the
+    /// chart's hemisphere.
+    #[inline(always)]
+    fn new(chart: &Chart, frame: &RayFrame) -> Option<ChartRay> {
+        if frame.vertical {
+            return None;
+        }
+        let k = chart.kappa;
+        let (p, u, c) = (frame.p, frame.u, chart.centre);
+        let d = p - c;
+        let alpha = 1.0 - 0.5 * k * chart.dot(d, d);
+        let beta = k * chart.dot(u, c);
+        let a0 = (alpha * alpha + k * beta * beta).sqrt();
+        if !(a0 > 0.0 && a0.is_finite()) {
+            return None;
+        }
+        let (cf, sf, foot) = if k == 0.0 {
+            // x(σ) = p + σu: the foot is at ⟨c − p, u⟩.
+            let foot = chart.dot(c - p, u);
+            (1.0, foot, foot)
+        } else if k < 0.0 {
+            (alpha / a0, -beta / a0, (-beta / alpha).atanh())
+        } else {
+            (alpha / a0, beta / a0, beta.atan2(alpha))
+        };
+        let p0 = p * cf + u * sf;
+        let u0 = u * cf - p * (k * sf);
+        let error = 1e-15 * (cf.abs() * p.length() + sf.abs() * u.length() + c.length() + 1.0);
+        let mut ray = ChartRay {
+            foot,
+            scale: [0.0; 2],
+            shift: [0.0; 2],
+            pad: [0.0; 2],
+            free: [true; 2],
+            t_max: chart.t_max,
+            cubic: -k / 3.0,
+            quintic: chart.quintic,
+        };
+        for i in 0..2 {
+            let a = chart.dot(p0 - c, chart.frame[i]);
+            let b = chart.dot(u0, chart.frame[i]);
+            if b.abs() > 1e-9 {
+                ray.free[i] = false;
+                ray.scale[i] = a0 / b;
+                ray.shift[i] = a / b;
+                ray.pad[i] = error * (1.0 + chart.t_max + a.abs() + a0) / b.abs();
+            }
+        }
+        foot.is_finite().then_some(ray)
+    }
+
+    /// The T-interval where the line is inside one axis' [lo, hi].
+    #[inline(always)]
+    fn axis(&self, i: usize, lo: f32, hi: f32) -> (f64, f64) {
+        let t1 = f64::from(lo) * self.scale[i] - self.shift[i];
+        let t2 = f64::from(hi) * self.scale[i] - self.shift[i];
+        if self.free[i] {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            (t1.min(t2) - self.pad[i], t1.max(t2) + self.pad[i])
+        }
+    }
 }
 
 /// Per-ray quantities for the ray–bound test, computed once per traversal.
@@ -558,10 +782,10 @@ impl RayFrame {
     /// lanes are straight-line arithmetic with selects for branches (the fast functions'
     /// reductions too), so that they run side by side rather than one after another.
     #[inline(always)]
-    fn entries(&self, node: &Node, s_lo: f64, s_hi: f64) -> [f64; WIDTH] {
+    fn entries(&self, node: &Node, discs: &Discs, s_lo: f64, s_hi: f64) -> [f64; WIDTH] {
         if self.vertical {
             return std::array::from_fn(|i| {
-                let b = node.bound(i);
+                let b = discs.bound(node, i);
                 self.entry(b.centre, b.reach, b.h_lo, b.h_hi, s_lo, s_hi)
                     .unwrap_or(f64::NAN)
             });
@@ -569,25 +793,48 @@ impl RayFrame {
         let mut out = [f64::NAN; WIDTH];
         if self.kappa > 0.0 {
             for (i, e) in out.iter_mut().enumerate() {
-                *e = self.lane::<1>(node, i, s_lo, s_hi);
+                *e = self.lane::<1>(node, discs, i, s_lo, s_hi);
             }
         } else if self.kappa == 0.0 {
             for (i, e) in out.iter_mut().enumerate() {
-                *e = self.lane::<0>(node, i, s_lo, s_hi);
+                *e = self.lane::<0>(node, discs, i, s_lo, s_hi);
             }
         } else {
             for (i, e) in out.iter_mut().enumerate() {
-                *e = self.lane::<-1>(node, i, s_lo, s_hi);
+                *e = self.lane::<-1>(node, discs, i, s_lo, s_hi);
             }
         }
         out
     }
 
-    /// One lane of [`RayFrame::entries`] for a ray that is not vertical, in the geometry whose
-    /// curvature has the sign `K`: the same formulas as [`RayFrame::disc`] and
-    /// [`RayFrame::entry`], without branches.
+    /// [`RayFrame::entries`] by the children's boxes in the mesh's chart, for a ray seen in it.
     #[inline(always)]
-    fn lane<const K: i32>(&self, node: &Node, i: usize, s_lo: f64, s_hi: f64) -> f64 {
+    fn chart_entries(&self, ray: &ChartRay, node: &Node, s_lo: f64, s_hi: f64) -> [f64; WIDTH] {
+        let mut out = [f64::NAN; WIDTH];
+        if self.kappa > 0.0 {
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.chart_lane::<1>(ray, node, i, s_lo, s_hi);
+            }
+        } else {
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.chart_lane::<0>(ray, node, i, s_lo, s_hi);
+            }
+        }
+        out
+    }
+
+    /// One lane of [`RayFrame::chart_entries`]: the T-interval of the box (two slabs, clamped
+    /// to |T| ≤ T(R)), taken to σ by the bounds on T⁻¹ from below at its start and from above
+    /// at its end, then as in [`RayFrame::lane`] (`K` > 0: the sphere's repetitions).
+    #[inline(always)]
+    fn chart_lane<const K: i32>(
+        &self,
+        ray: &ChartRay,
+        node: &Node,
+        i: usize,
+        s_lo: f64,
+        s_hi: f64,
+    ) -> f64 {
         let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
         let (lo, hi) = if self.level {
             let inside = self.h >= h_lo && self.h <= h_hi;
@@ -597,8 +844,62 @@ impl RayFrame {
             let t2 = (h_hi - self.h) * self.inv_sa;
             (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
         };
-        let c = DVec3::new(node.x[i], node.y[i], node.z[i]);
-        let reach = node.reach[i];
+        let (x_in, x_out) = ray.axis(0, node.gx_lo[i], node.gx_hi[i]);
+        let (y_in, y_out) = ray.axis(1, node.gy_lo[i], node.gy_hi[i]);
+        let t_in = x_in.max(y_in).max(-ray.t_max);
+        let t_out = x_out.min(y_out).min(ray.t_max);
+        let odd = |t: f64| t * (1.0 + ray.cubic * (t * t));
+        let fifth = |t: f64| {
+            let t2 = t * t;
+            ray.quintic * (t2 * t2) * t
+        };
+        let a = odd(t_in) + fifth(t_in).min(0.0);
+        let b = odd(t_out) + fifth(t_out).max(0.0);
+        let slack = 1e-12 * (1.0 + ray.foot.abs() + a.abs().max(b.abs()));
+        let (mut start, mut end) = (ray.foot + a - slack, ray.foot + b + slack);
+        let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
+        if K > 0 {
+            // The first repetition (period 2π) that ends at or after σ_lo.
+            let turns = ceil_select((sigma_lo - end) / TAU);
+            start += turns * TAU;
+            end += turns * TAU;
+            let behind = end < sigma_lo;
+            start += if behind { TAU } else { 0.0 };
+            end += if behind { TAU } else { 0.0 };
+        }
+        let occupied = node.gx_lo[i] <= node.gx_hi[i];
+        let met = occupied && lo <= hi && t_in <= t_out && start <= sigma_hi && end >= sigma_lo;
+        let entry = if start <= sigma_lo {
+            lo
+        } else {
+            (start * self.inv_ca).min(hi)
+        };
+        if met { entry } else { f64::NAN }
+    }
+
+    /// One lane of [`RayFrame::entries`] for a ray that is not vertical, in the geometry whose
+    /// curvature has the sign `K`: the same formulas as [`RayFrame::disc`] and
+    /// [`RayFrame::entry`], without branches.
+    #[inline(always)]
+    fn lane<const K: i32>(
+        &self,
+        node: &Node,
+        discs: &Discs,
+        i: usize,
+        s_lo: f64,
+        s_hi: f64,
+    ) -> f64 {
+        let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
+        let (lo, hi) = if self.level {
+            let inside = self.h >= h_lo && self.h <= h_hi;
+            (s_lo, if inside { s_hi } else { f64::NEG_INFINITY })
+        } else {
+            let t1 = (h_lo - self.h) * self.inv_sa;
+            let t2 = (h_hi - self.h) * self.inv_sa;
+            (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
+        };
+        let c = DVec3::new(discs.x[i], discs.y[i], discs.z[i]);
+        let reach = discs.reach[i];
         let gamma = self.dot(c, self.v) - self.pv;
         let g2 = gamma * gamma;
         let cu = self.dot(c, self.u) - self.pu;
@@ -710,6 +1011,7 @@ struct Builder<'a> {
     heights: &'a [f64],
     triangles: &'a [[u32; 3]],
     keys: Vec<Key>,
+    chart: Option<Chart>,
 }
 
 /// Axis-aligned box in SAH space.
@@ -767,12 +1069,25 @@ impl Builder<'_> {
             .flat_map(|&t| self.triangles[t as usize])
             .map(|i| &self.points[i as usize]);
         let (centre, reach) =
-            disc_around(self.space, vertices).unwrap_or((DVec3::Z, f64::INFINITY));
+            disc_around(self.space, vertices.clone()).unwrap_or((DVec3::Z, f64::INFINITY));
+        // The box in the chart, padded far beyond the rounding of the chart points.
+        let (mut chart_lo, mut chart_hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        if let Some(chart) = &self.chart {
+            for v in vertices {
+                let g = chart.coords(*v).unwrap_or([f64::NAN; 2]);
+                for i in 0..2 {
+                    chart_lo[i] = chart_lo[i].min(g[i] - 1e-9 * (1.0 + g[i].abs()));
+                    chart_hi[i] = chart_hi[i].max(g[i] + 1e-9 * (1.0 + g[i].abs()));
+                }
+            }
+        }
         Bound {
             centre,
             reach,
             h_lo,
             h_hi,
+            chart_lo,
+            chart_hi,
         }
     }
 
@@ -875,12 +1190,14 @@ impl Builder<'_> {
     }
 }
 
-/// Writes a node for `children` at `at` and its descendants after the current end; returns the
-/// subtree's depth.
-fn flatten(children: Vec<Temp>, at: usize, nodes: &mut Vec<Node>) -> usize {
+/// Writes a node for `children` at `at` (and its discs) and its descendants after the current
+/// end; returns the subtree's depth.
+fn flatten(children: Vec<Temp>, at: usize, nodes: &mut Vec<Node>, discs: &mut Vec<Discs>) -> usize {
     let mut node = Node::EMPTY;
+    let mut disc = Discs::EMPTY;
     let mut inner = Vec::new();
     for (slot, child) in children.into_iter().enumerate() {
+        disc.set(slot, child.bound());
         match child {
             Temp::Leaf(bound, start, count) => node.set(slot, &bound, start, count),
             Temp::Inner(bound, ..) => {
@@ -890,12 +1207,14 @@ fn flatten(children: Vec<Temp>, at: usize, nodes: &mut Vec<Node>) -> usize {
         }
     }
     nodes[at] = node;
+    discs[at] = disc;
     let mut depth = 0;
     for (slot, child) in inner {
         let index = nodes.len();
         nodes.push(Node::EMPTY);
+        discs.push(Discs::EMPTY);
         nodes[at].index[slot] = index as u32;
-        depth = depth.max(flatten(child.children(), index, nodes));
+        depth = depth.max(flatten(child.children(), index, nodes, discs));
     }
     1 + depth
 }
@@ -931,7 +1250,9 @@ impl Bvh {
             kappa: space.kappa(),
             root: None,
             root_node: Node::EMPTY,
+            root_discs: Discs::EMPTY,
             nodes: Vec::new(),
+            discs: Vec::new(),
             prepared: Vec::new(),
             order: Vec::new(),
             slot_of: Vec::new(),
@@ -940,6 +1261,7 @@ impl Bvh {
             triangles: triangles.to_vec(),
             depth: 0,
             shading: None,
+            chart: None,
         };
         if tris.is_empty() {
             return bvh;
@@ -976,24 +1298,37 @@ impl Bvh {
                 }
             })
             .collect();
+        let chart = Chart::new(
+            space,
+            centre,
+            tris.iter()
+                .flat_map(|&t| triangles[t as usize])
+                .map(|i| points[i as usize]),
+        );
         let builder = Builder {
             space,
             points,
             heights,
             triangles,
             keys,
+            chart,
         };
         let root = builder.build(&mut tris, 0, 0);
         bvh.root = Some(*root.bound());
+        bvh.chart = chart;
         bvh.root_node.set(0, root.bound(), 0, 0);
+        bvh.root_discs.set(0, root.bound());
         let mut nodes = Vec::with_capacity(tris.len() / LEAF_SIZE + 1);
+        let mut discs = Vec::with_capacity(tris.len() / LEAF_SIZE + 1);
         nodes.push(Node::EMPTY);
-        bvh.depth = flatten(root.children(), 0, &mut nodes);
+        discs.push(Discs::EMPTY);
+        bvh.depth = flatten(root.children(), 0, &mut nodes, &mut discs);
         assert!(
             3 * bvh.depth < STACK,
             "the BVH is too deep for its traversal stack"
         );
         bvh.nodes = nodes;
+        bvh.discs = discs;
         bvh.prepared = tris
             .iter()
             .map(|&t| {
@@ -1045,10 +1380,11 @@ impl Bvh {
             return None;
         }
         let frame = RayFrame::new(space, ray);
-        let entry = frame.entries(&self.root_node, s_min, s_max)[0];
+        let entry = frame.entries(&self.root_node, &self.root_discs, s_min, s_max)[0];
         if entry.is_nan() {
             return None; // missed
         }
+        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
         let mut best_s = s_max;
         let mut best = None;
         // Not an array: zeroing 4 KiB for every ray would cost more than a short traversal.
@@ -1078,9 +1414,13 @@ impl Bvh {
                 }
                 continue;
             }
-            let node = &self.nodes[pending.index as usize];
+            let at = pending.index as usize;
+            let node = &self.nodes[at];
             self.prefetch_children(node);
-            let entries = frame.entries(node, s_min, best_s);
+            let entries = match &chart {
+                Some(chart) => frame.chart_entries(chart, node, s_min, best_s),
+                None => frame.entries(node, &self.discs[at], s_min, best_s),
+            };
             // The children met, farthest first, so that the nearest is taken next.
             let mut met = [(0.0, 0usize); WIDTH];
             let mut n = 0;
@@ -1125,9 +1465,10 @@ impl Bvh {
             return false;
         }
         let frame = RayFrame::new(space, ray);
-        if frame.entries(&self.root_node, s_min, s_max)[0].is_nan() {
+        if frame.entries(&self.root_node, &self.root_discs, s_min, s_max)[0].is_nan() {
             return false; // missed
         }
+        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         stack.push((0, 0));
         while let Some((index, count)) = stack.pop() {
@@ -1142,8 +1483,12 @@ impl Bvh {
                 continue;
             }
             let node = &self.nodes[index as usize];
+            let at = index as usize;
             self.prefetch_children(node);
-            let entries = frame.entries(node, s_min, s_max);
+            let entries = match &chart {
+                Some(chart) => frame.chart_entries(chart, node, s_min, s_max),
+                None => frame.entries(node, &self.discs[at], s_min, s_max),
+            };
             for (slot, &e) in entries.iter().enumerate() {
                 if e <= s_max {
                     stack.push((node.index[slot], node.count[slot]));
@@ -1289,8 +1634,9 @@ mod tests {
     use orbifold::Geometry;
 
     #[test]
-    fn nodes_are_three_cache_lines() {
-        assert_eq!(std::mem::size_of::<Node>(), 192);
+    fn nodes_are_two_cache_lines() {
+        assert_eq!(std::mem::size_of::<Node>(), 128);
+        assert_eq!(std::mem::size_of::<Discs>(), 128);
     }
 
     /// `triangle` reads the prepared copy: the same vertices, in the input's order, for every
@@ -1512,8 +1858,9 @@ mod tests {
     }
 
     /// A random node of four bounds around the origin of `space` (some slots left empty).
-    fn random_node(space: Space, rnd: &mut impl FnMut() -> f64) -> Node {
+    fn random_node(space: Space, rnd: &mut impl FnMut() -> f64) -> (Node, Discs) {
         let mut node = Node::EMPTY;
+        let mut discs = Discs::EMPTY;
         for slot in 0..WIDTH {
             if rnd() < 0.15 {
                 continue; // an empty slot
@@ -1531,10 +1878,13 @@ mod tests {
                 reach,
                 h_lo,
                 h_hi,
+                chart_lo: [f64::INFINITY; 2],
+                chart_hi: [f64::NEG_INFINITY; 2],
             };
             node.set(slot, &bound, slot as u32, 0);
+            discs.set(slot, &bound);
         }
-        node
+        (node, discs)
     }
 
     #[test]
@@ -1558,7 +1908,7 @@ mod tests {
                 (3000, 3000)
             };
             for case in 0..cases {
-                let node = random_node(space, &mut rnd);
+                let (node, discs) = random_node(space, &mut rnd);
                 let origin = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0));
                 let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
                 let elevation = match case % 5 {
@@ -1574,9 +1924,9 @@ mod tests {
                     1 => 9.0,
                     _ => 4.0,
                 };
-                let entries = frame.entries(&node, s_min, s_max);
+                let entries = frame.entries(&node, &discs, s_min, s_max);
                 for (slot, &lane) in entries.iter().enumerate() {
-                    let b = node.bound(slot);
+                    let b = discs.bound(&node, slot);
                     if b.reach == f64::NEG_INFINITY {
                         assert!(lane.is_nan(), "{g:?}: an empty slot was met");
                         continue;
@@ -1619,6 +1969,263 @@ mod tests {
                 met > cases / 6 && missed > cases / 6,
                 "{g:?}: {met} met, {missed} missed"
             );
+        }
+    }
+
+    /// The chart takes geodesics to straight lines: three points of one geodesic have chart
+    /// points on one line, in all three geometries.
+    #[test]
+    fn the_chart_takes_geodesics_to_straight_lines() {
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let mut rnd = uniforms(2024);
+            for _ in 0..2000 {
+                let centre = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0));
+                let chart = Chart::new(space, centre, [centre]).unwrap();
+                let origin = space.exp(centre, space.tangent_frame(centre)[0] * (rnd() - 0.5));
+                let ray = Ray::new(
+                    space,
+                    origin,
+                    DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0),
+                    0.0,
+                    0.0,
+                );
+                let at = |s: f64| chart.coords(ray.point_at(space, s).0).unwrap();
+                let [a, b, c] = [at(-0.6 * rnd()), at(0.0), at(0.6 * rnd())];
+                let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+                assert!(
+                    cross.abs() < 1e-12,
+                    "{g:?}: chart points off a line by {cross}"
+                );
+            }
+        }
+    }
+
+    /// Every lane of `chart_entries` is conservative: never a miss, and never an entry after
+    /// a point of the ray that is inside the child's chart box and height interval and within
+    /// the chart's radius; and it is not much before the first such point (only by the bound
+    /// on T⁻¹ and the sampling step). Rays of every kind: level, steep, from far away, long
+    /// (several turns round the sphere), with s_max = +∞.
+    #[test]
+    fn the_chart_box_test_is_conservative_and_tight() {
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let mut rnd = uniforms(31415);
+            let (cases, samples) = if cfg!(debug_assertions) {
+                (600, 1500)
+            } else {
+                (3000, 3000)
+            };
+            let (mut met, mut missed) = (0, 0);
+            for case in 0..cases {
+                // A cluster of vertices about a centre, and boxes round some of them.
+                let centre = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0));
+                let spread = 0.1 + 0.5 * rnd();
+                let vertices: Vec<DVec3> = (0..12)
+                    .map(|_| {
+                        let t = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * spread;
+                        space.exp(
+                            centre,
+                            space.tangent_frame(centre)[0] * t.x
+                                + space.tangent_frame(centre)[1] * t.y,
+                        )
+                    })
+                    .collect();
+                let chart = Chart::new(space, centre, vertices.iter().copied()).unwrap();
+                let mut node = Node::EMPTY;
+                for slot in 0..WIDTH {
+                    if rnd() < 0.15 {
+                        continue;
+                    }
+                    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                    for v in vertices.iter().filter(|_| rnd() < 0.4) {
+                        let c = chart.coords(*v).unwrap();
+                        for i in 0..2 {
+                            lo[i] = lo[i].min(c[i]);
+                            hi[i] = hi[i].max(c[i]);
+                        }
+                    }
+                    let (h_lo, h_hi) = (rnd() * 0.5, 0.5 + rnd() * 0.5);
+                    let bound = Bound {
+                        centre,
+                        reach: 0.0,
+                        h_lo,
+                        h_hi,
+                        chart_lo: lo,
+                        chart_hi: hi,
+                    };
+                    node.set(slot, &bound, slot as u32, 0);
+                }
+                let far = if case % 11 == 0 { 3.0 } else { 1.0 };
+                let origin = space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * far);
+                let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
+                let elevation = match case % 5 {
+                    0 => 0.0,
+                    _ => 1.4 * (rnd() - 0.5),
+                };
+                let ray = Ray::new(space, origin, dir, rnd(), elevation);
+                let frame = RayFrame::new(space, &ray);
+                let Some(chart_ray) = ChartRay::new(&chart, &frame) else {
+                    continue; // a great circle that misses the chart's hemisphere
+                };
+                let s_min = if case % 7 == 0 { 2.5 } else { 0.0 };
+                let s_max = match case % 3 {
+                    0 => f64::INFINITY,
+                    1 => 9.0,
+                    _ => 4.0,
+                };
+                let entries = frame.chart_entries(&chart_ray, &node, s_min, s_max);
+                let end = s_max.min(9.0);
+                let step = (end - s_min) / f64::from(samples);
+                // How far before the true entry a lane may be: the bound on T⁻¹ at T(R).
+                let t = chart.t_max;
+                let slack = (chart.quintic * t.powi(5) + 1e-9) * frame.inv_ca() + step + 1e-9;
+                for (slot, &lane) in entries.iter().enumerate() {
+                    if node.gx_lo[slot] > node.gx_hi[slot] {
+                        assert!(lane.is_nan(), "{g:?}: an empty slot was met");
+                        continue;
+                    }
+                    if lane.is_nan() {
+                        missed += 1;
+                    } else {
+                        met += 1;
+                    }
+                    let b = Discs::EMPTY.bound(&node, slot);
+                    let mut first_in_box = None;
+                    for i in 0..=samples {
+                        let s = s_min + step * f64::from(i);
+                        let (x, h) = ray.point_at(space, s);
+                        let Some(c) = chart.coords(x) else { continue };
+                        let in_box = c[0] >= b.chart_lo[0]
+                            && c[0] <= b.chart_hi[0]
+                            && c[1] >= b.chart_lo[1]
+                            && c[1] <= b.chart_hi[1]
+                            && h >= b.h_lo
+                            && h <= b.h_hi;
+                        if in_box && first_in_box.is_none() {
+                            first_in_box = Some(s);
+                        }
+                        // Within the chart's radius, where the mesh is.
+                        if in_box && c[0].hypot(c[1]) <= t {
+                            assert!(
+                                lane <= s + 1e-9,
+                                "{g:?} case {case}: lane {lane} after inside sample {s}"
+                            );
+                            break;
+                        }
+                    }
+                    if let Some(s) = first_in_box {
+                        assert!(
+                            lane.is_nan() || lane >= s - slack || lane <= s_min + 1e-12,
+                            "{g:?} case {case}: lane {lane} long before the box, at {s}"
+                        );
+                    }
+                }
+            }
+            assert!(
+                met > cases / 6 && missed > cases / 6,
+                "{g:?}: {met} met, {missed} missed"
+            );
+        }
+    }
+
+    /// A mesh too wide for a chart (beyond 84° from its centre on S², 3.8 on H²) has none and
+    /// is traversed by its discs, with the same hits as testing every triangle.
+    #[test]
+    fn a_mesh_too_wide_for_a_chart_is_traversed_by_its_discs() {
+        for (g, radius) in [(Geometry::Spherical, 1.55), (Geometry::Hyperbolic, 4.2)] {
+            let space = Space::new(g);
+            let mut rnd = uniforms(777);
+            let (mut points, mut heights, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+            for t in 0..400u32 {
+                let angle = std::f64::consts::TAU * rnd();
+                let r = radius * rnd().sqrt();
+                let centre = DVec3::new(r * angle.cos(), r * angle.sin(), 0.0);
+                for _ in 0..3 {
+                    let v = centre + DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * 0.2;
+                    points.push(space.exp(DVec3::Z, v));
+                    heights.push(rnd());
+                }
+                triangles.push([3 * t, 3 * t + 1, 3 * t + 2]);
+            }
+            let bvh = Bvh::build(space, &points, &heights, &triangles);
+            assert!(
+                bvh.chart.is_none(),
+                "{g:?}: a chart for a mesh {radius} wide"
+            );
+            let mut hits = 0;
+            for _ in 0..400 {
+                let origin =
+                    space.exp(DVec3::Z, DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0) * radius);
+                let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
+                let ray = Ray::new(space, origin, dir, rnd(), 0.6 * (rnd() - 0.5));
+                let expected = triangles
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(t, tri)| {
+                        let tri = Triangle::new(
+                            tri.map(|i| points[i as usize]),
+                            tri.map(|i| heights[i as usize]),
+                        );
+                        Some((t as u32, tri.intersect(space, &ray, 0.0, 6.0)?.s))
+                    })
+                    .min_by(|a, b| a.1.total_cmp(&b.1));
+                let got = bvh
+                    .intersect(space, &ray, 0.0, 6.0)
+                    .map(|h| (h.triangle, h.s));
+                match (got, expected) {
+                    (Some((t, s)), Some((u, e))) => {
+                        assert!(t == u && (s - e).abs() < 1e-12, "{g:?}: {ray:?}");
+                    }
+                    (got, expected) => assert_eq!(got, expected, "{g:?}: {ray:?}"),
+                }
+                assert_eq!(bvh.occluded(space, &ray, 0.0, 6.0), expected.is_some());
+                hits += usize::from(expected.is_some());
+            }
+            assert!(hits > 40, "{g:?}: only {hits} hits");
+        }
+    }
+
+    /// The odd polynomials bound T⁻¹ from both sides on |T| ≤ T(R): artanh on H², arctan on
+    /// S², the identity on E².
+    #[test]
+    fn the_bounds_on_the_inverse_hold() {
+        for (kappa, r) in [(-1.0, 0.3), (-1.0, 2.0), (1.0, 0.3), (1.0, 1.4), (0.0, 5.0)] {
+            let space = Space::new(if kappa < 0.0 {
+                Geometry::Hyperbolic
+            } else if kappa > 0.0 {
+                Geometry::Spherical
+            } else {
+                Geometry::Euclidean
+            });
+            let far = space.exp(DVec3::Z, DVec3::new(r, 0.0, 0.0));
+            let chart = Chart::new(space, DVec3::Z, [DVec3::Z, far]).unwrap();
+            let cubic = -kappa / 3.0;
+            for i in -1000..=1000 {
+                let t = chart.t_max * f64::from(i) / 1000.0;
+                let exact = if kappa < 0.0 {
+                    t.atanh()
+                } else if kappa > 0.0 {
+                    t.atan()
+                } else {
+                    t
+                };
+                let odd = t * (1.0 + cubic * t * t);
+                let fifth = chart.quintic * t.powi(5);
+                let (below, above) = (odd + fifth.min(0.0), odd + fifth.max(0.0));
+                assert!(
+                    below <= exact + 1e-15 && exact <= above + 1e-15,
+                    "κ = {kappa}, T = {t}: {below} ≤ {exact} ≤ {above} fails"
+                );
+            }
         }
     }
 

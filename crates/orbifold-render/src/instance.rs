@@ -117,6 +117,9 @@ impl Instance {
             reach: b.reach,
             h_lo: b.h_lo + self.height,
             h_hi: b.h_hi + self.height,
+            // In the object's own chart: a world bound is tested as a disc only.
+            chart_lo: b.chart_lo,
+            chart_hi: b.chart_hi,
         })
     }
 }
