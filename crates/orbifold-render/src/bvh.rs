@@ -1,7 +1,7 @@
 //! A bounding volume hierarchy for curved rays (DESIGN.md §8).
 //!
 //! **Bounds.** Each node's children are bounded by **boxes in the mesh's gnomonic chart ×
-//! height intervals**. The chart ([`Chart`]) about the mesh's centre c sends a point x to
+//! height intervals**. The chart (`Chart`) about the mesh's centre c sends a point x to
 //! (⟨x − c, e₁⟩, ⟨x − c, e₂⟩)/C(d(x, c)): the Beltrami–Klein model on H², the gnomonic
 //! projection of the hemisphere about c on S², the plane itself on E². In all three it takes
 //! geodesics to straight lines, so a triangle's footprint is the straight triangle of its
@@ -23,7 +23,7 @@
 //! on S² its first repetition (period 2π) after s_min is taken.
 //!
 //! **Discs, where there is no chart.** Every node also keeps its children's **geodesic discs**
-//! ([`Discs`], apart from the nodes so that the traversal reads two cache lines a node, not
+//! (`Discs`, apart from the nodes so that the traversal reads two cache lines a node, not
 //! three). They are tested instead of the boxes by vertical rays (a point of the chart), and
 //! for a mesh too wide for a chart (a vertex more than about 84° from the centre on S², where
 //! the gnomonic picture ends at the hemisphere's edge, or 3.8 on H², where the bound on artanh
