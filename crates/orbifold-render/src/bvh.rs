@@ -462,6 +462,15 @@ impl Chart {
     }
 }
 
+/// How far a [`ChartRay`]'s foot may be off: `ln_fast`'s error on H² (halved, and the rounding
+/// of its argument), `atan2_fast`'s on S².
+const FOOT_ERROR: f64 = 2.0
+    * if LN_FAST_ERROR > ATAN_FAST_ERROR {
+        LN_FAST_ERROR
+    } else {
+        ATAN_FAST_ERROR
+    };
+
 /// A ray seen in a [`Chart`], from the foot of the perpendicular from its centre: the chart
 /// point at T = S(σ')/C(σ') is (a + b·T)/C(d⊥) on each axis, so the T at which axis i reads v
 /// is v·`scale[i]` − `shift[i]`.
@@ -497,14 +506,22 @@ impl ChartRay {
         if !(a0 > 0.0 && a0.is_finite()) {
             return None;
         }
+        // The foot, from the fast functions: their errors widen the lanes' intervals.
         let (cf, sf, foot) = if k == 0.0 {
             // x(σ) = p + σu: the foot is at ⟨c − p, u⟩.
             let foot = chart.dot(c - p, u);
             (1.0, foot, foot)
         } else if k < 0.0 {
-            (alpha / a0, -beta / a0, (-beta / alpha).atanh())
+            // artanh(−β/α) = ½ ln((α − β)/(α + β)), with α > |β| but for rounding (where it
+            // fails, far from the chart, the discs are tested instead).
+            let ratio = (alpha - beta) / (alpha + beta);
+            if !(ratio > f64::MIN_POSITIVE && ratio < f64::MAX) {
+                return None;
+            }
+            let foot = 0.5 * ln_fast(ratio);
+            (alpha / a0, -beta / a0, foot)
         } else {
-            (alpha / a0, beta / a0, beta.atan2(alpha))
+            (alpha / a0, beta / a0, atan2_fast(beta, alpha))
         };
         let p0 = p * cf + u * sf;
         let u0 = u * cf - p * (k * sf);
@@ -856,7 +873,7 @@ impl RayFrame {
         };
         let a = odd(t_in) + fifth(t_in).min(0.0);
         let b = odd(t_out) + fifth(t_out).max(0.0);
-        let slack = 1e-12 * (1.0 + ray.foot.abs() + a.abs().max(b.abs()));
+        let slack = 1e-12 * (1.0 + ray.foot.abs() + a.abs().max(b.abs())) + FOOT_ERROR;
         let (mut start, mut end) = (ray.foot + a - slack, ray.foot + b + slack);
         let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
         if K > 0 {
