@@ -1418,11 +1418,11 @@ impl Bvh {
             return None;
         }
         let frame = RayFrame::new(space, ray);
-        let entry = frame.entries(&self.root_node, &self.root_discs, s_min, s_max)[0];
+        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
+        let entry = self.root_entry(&frame, chart.as_ref(), s_min, s_max);
         if entry.is_nan() {
             return None; // missed
         }
-        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
         let mut best_s = s_max;
         let mut best = None;
         // Not an array: zeroing 4 KiB for every ray would cost more than a short traversal.
@@ -1503,10 +1503,13 @@ impl Bvh {
             return false;
         }
         let frame = RayFrame::new(space, ray);
-        if frame.entries(&self.root_node, &self.root_discs, s_min, s_max)[0].is_nan() {
+        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
+        if self
+            .root_entry(&frame, chart.as_ref(), s_min, s_max)
+            .is_nan()
+        {
             return false; // missed
         }
-        let chart = self.chart.as_ref().and_then(|c| ChartRay::new(c, &frame));
         let mut stack = ArrayVec::<(u32, u32), STACK>::new();
         stack.push((0, 0));
         while let Some((index, count)) = stack.pop() {
@@ -1573,6 +1576,22 @@ impl Bvh {
             ray.sin_elevation == 0.0,
         );
         height_slab(climb, (root.h_lo, root.h_hi), (s_min, s_max)).is_some()
+    }
+
+    /// Where the ray enters the root's bound (NaN: it does not): its chart box when the ray
+    /// is seen in the chart (which the traversal needs anyway), else its disc.
+    #[inline(always)]
+    fn root_entry(
+        &self,
+        frame: &RayFrame,
+        chart: Option<&ChartRay>,
+        s_min: f64,
+        s_max: f64,
+    ) -> f64 {
+        match chart {
+            Some(chart) => frame.chart_entries(chart, &self.root_node, s_min, s_max)[0],
+            None => frame.entries(&self.root_node, &self.root_discs, s_min, s_max)[0],
+        }
     }
 
     /// Whether the ray's whole horizontal geodesic misses the root's disc, by two dot
