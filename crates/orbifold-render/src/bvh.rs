@@ -853,15 +853,7 @@ impl RayFrame {
         s_lo: f64,
         s_hi: f64,
     ) -> f64 {
-        let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
-        let (lo, hi) = if self.level {
-            let inside = self.h >= h_lo && self.h <= h_hi;
-            (s_lo, if inside { s_hi } else { f64::NEG_INFINITY })
-        } else {
-            let t1 = (h_lo - self.h) * self.inv_sa;
-            let t2 = (h_hi - self.h) * self.inv_sa;
-            (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
-        };
+        let (lo, hi) = self.lane_slab(node, i, s_lo, s_hi);
         let (x_in, x_out) = ray.axis(0, node.gx_lo[i], node.gx_hi[i]);
         let (y_in, y_out) = ray.axis(1, node.gy_lo[i], node.gy_hi[i]);
         let t_in = x_in.max(y_in).max(-ray.t_max);
@@ -874,25 +866,9 @@ impl RayFrame {
         let a = odd(t_in) + fifth(t_in).min(0.0);
         let b = odd(t_out) + fifth(t_out).max(0.0);
         let slack = 1e-12 * (1.0 + ray.foot.abs() + a.abs().max(b.abs())) + FOOT_ERROR;
-        let (mut start, mut end) = (ray.foot + a - slack, ray.foot + b + slack);
-        let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
-        if K > 0 {
-            // The first repetition (period 2π) that ends at or after σ_lo.
-            let turns = ceil_select((sigma_lo - end) / TAU);
-            start += turns * TAU;
-            end += turns * TAU;
-            let behind = end < sigma_lo;
-            start += if behind { TAU } else { 0.0 };
-            end += if behind { TAU } else { 0.0 };
-        }
+        let (start, end) = (ray.foot + a - slack, ray.foot + b + slack);
         let occupied = node.gx_lo[i] <= node.gx_hi[i];
-        let met = occupied && lo <= hi && t_in <= t_out && start <= sigma_hi && end >= sigma_lo;
-        let entry = if start <= sigma_lo {
-            lo
-        } else {
-            (start * self.inv_ca).min(hi)
-        };
-        if met { entry } else { f64::NAN }
+        self.lane_entry::<K>((lo, hi), (start, end), occupied && t_in <= t_out, false)
     }
 
     /// One lane of [`RayFrame::entries`] for a ray that is not vertical, in the geometry whose
@@ -907,15 +883,7 @@ impl RayFrame {
         s_lo: f64,
         s_hi: f64,
     ) -> f64 {
-        let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
-        let (lo, hi) = if self.level {
-            let inside = self.h >= h_lo && self.h <= h_hi;
-            (s_lo, if inside { s_hi } else { f64::NEG_INFINITY })
-        } else {
-            let t1 = (h_lo - self.h) * self.inv_sa;
-            let t2 = (h_hi - self.h) * self.inv_sa;
-            (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
-        };
+        let (lo, hi) = self.lane_slab(node, i, s_lo, s_hi);
         let c = DVec3::new(discs.x[i], discs.y[i], discs.z[i]);
         let reach = discs.reach[i];
         let gamma = self.dot(c, self.v) - self.pv;
@@ -953,10 +921,39 @@ impl RayFrame {
         // every geometry the whole plane (reach = +∞), is entered wherever the slab is.
         let everywhere = reach == f64::INFINITY || (K > 0 && (q.is_nan() || q >= 1.0));
         let w = widened(w, centre_sigma);
+        let span = (centre_sigma - w, centre_sigma + w);
+        self.lane_entry::<K>((lo, hi), span, near, everywhere)
+    }
+
+    /// A lane's [s_lo, s_hi] cut to where the ray is within child `i`'s heights (empty when
+    /// lo > hi).
+    #[inline(always)]
+    fn lane_slab(&self, node: &Node, i: usize, s_lo: f64, s_hi: f64) -> (f64, f64) {
+        let (h_lo, h_hi) = (f64::from(node.h_lo[i]), f64::from(node.h_hi[i]));
+        if self.level {
+            let inside = self.h >= h_lo && self.h <= h_hi;
+            (s_lo, if inside { s_hi } else { f64::NEG_INFINITY })
+        } else {
+            let t1 = (h_lo - self.h) * self.inv_sa;
+            let t2 = (h_hi - self.h) * self.inv_sa;
+            (s_lo.max(t1.min(t2)), s_hi.min(t1.max(t2)))
+        }
+    }
+
+    /// Where a lane's ray enters its bound (NaN where it does not), from the arc lengths
+    /// [lo, hi] within its heights and the σ-interval `[start, end]` over its footprint (on S²,
+    /// `K` > 0, the first repetition, period 2π, that ends at or after σ_lo), met only where
+    /// the lane's own test `passed`; `everywhere` for a bound that holds the whole geodesic.
+    #[inline(always)]
+    fn lane_entry<const K: i32>(
+        &self,
+        (lo, hi): (f64, f64),
+        (mut start, mut end): (f64, f64),
+        passed: bool,
+        everywhere: bool,
+    ) -> f64 {
         let (sigma_lo, sigma_hi) = (lo * self.ca, hi * self.ca);
-        let (mut start, mut end) = (centre_sigma - w, centre_sigma + w);
         if K > 0 {
-            // The first repetition (period 2π) that ends at or after σ_lo.
             let turns = ceil_select((sigma_lo - end) / TAU);
             start += turns * TAU;
             end += turns * TAU;
@@ -964,7 +961,7 @@ impl RayFrame {
             start += if behind { TAU } else { 0.0 };
             end += if behind { TAU } else { 0.0 };
         }
-        let met = lo <= hi && near && (everywhere || (start <= sigma_hi && end >= sigma_lo));
+        let met = lo <= hi && passed && (everywhere || (start <= sigma_hi && end >= sigma_lo));
         let entry = if everywhere || start <= sigma_lo {
             lo
         } else {
