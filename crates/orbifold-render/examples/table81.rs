@@ -562,10 +562,12 @@ fn main() {
         }
         let raw = display_noise(&a.film, &b.film, exposure);
         let clean = display_noise(&da, &db, exposure);
-        let paths = a.paths as f64 / a.elapsed.as_secs_f64();
-        let rays = a.rays as f64 / a.elapsed.as_secs_f64();
+        // Over both seeds' renders: twice the time to average the machine's drift over.
+        let elapsed = (a.elapsed + b.elapsed).as_secs_f64();
+        let paths = (a.paths + b.paths) as f64 / elapsed;
+        let rays = (a.rays + b.rays) as f64 / elapsed;
         println!(
-            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.2}, {:.2}, {:.2} | {:.2} | {:.3} | {:.2} |",
+            "| `{signature}` | {:?} | {:.1} | {:.3} | {:.1}, {:.1} | {:.2}, {:.2}, {:.2} | {:.2} | {:.4} | {:.2} |",
             integrator.space().geometry(),
             a.paths as f64 / f64::from(args.size).powi(2),
             a.film.relative_noise(),

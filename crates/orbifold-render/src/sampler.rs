@@ -389,6 +389,30 @@ pub struct Distribution1d {
     total: f64,
     /// The last item of nonzero weight (what u ≥ 1 maps to).
     last: usize,
+    /// A guide table (Chen and Asau's cutpoints) over M = 2ᵏ equal intervals of u: entry j is
+    /// the first index whose cdf exceeds j/M, so that a `u` in [j/M, (j + 1)/M) is looked for
+    /// only between entries j and j + 1 — a step or two instead of a binary search over all
+    /// the cdf, whose chain of dependent reads missed the cache for a room's thousands of
+    /// light images. (M is a power of two so that ⌊u·M⌋ = j is exact.)
+    guide: Vec<u32>,
+}
+
+/// The guide table of a cdf ([`Distribution1d`]): for j = 0..=M, the first index whose cdf
+/// exceeds j/M, with M the power of two at or above the number of items (at most 2²⁰).
+fn guide_table(cdf: &[f64]) -> Vec<u32> {
+    let intervals = (cdf.len().saturating_sub(1))
+        .next_power_of_two()
+        .min(1 << 20);
+    let mut guide = Vec::with_capacity(intervals + 1);
+    let mut first = 0;
+    for j in 0..=intervals {
+        let x = j as f64 / intervals as f64;
+        while first < cdf.len() && cdf[first] <= x {
+            first += 1;
+        }
+        guide.push(first as u32);
+    }
+    guide
 }
 
 impl Distribution1d {
@@ -425,11 +449,13 @@ impl Distribution1d {
         for c in &mut cdf[last + 1..] {
             *c = 1.0;
         }
+        let guide = guide_table(&cdf);
         Some(Distribution1d {
             cdf,
             pmf,
             total,
             last,
+            guide,
         })
     }
 
@@ -448,12 +474,24 @@ impl Distribution1d {
         let u = if u.is_nan() { 0.0 } else { u.max(0.0) };
         // The first index whose cdf exceeds u is one past the item: cdf[i] ≤ u < cdf[i + 1],
         // an interval that is empty for items of zero weight.
-        let i = self
-            .cdf
-            .partition_point(|c| *c <= u)
-            .saturating_sub(1)
-            .min(self.last);
+        let i = self.first_above(u).saturating_sub(1).min(self.last);
         (i, self.pmf[i])
+    }
+
+    /// The first index whose cdf exceeds `u` (≥ 0), as `partition_point` over the whole cdf
+    /// finds it, searched between the guide table's two entries around `u`.
+    #[inline]
+    fn first_above(&self, u: f64) -> usize {
+        let intervals = self.guide.len() - 1;
+        // Exact: M is a power of two. (The cast saturates; u ≥ 1 goes to the full search.)
+        let j = (u * intervals as f64) as usize;
+        match (self.guide.get(j), self.guide.get(j + 1)) {
+            (Some(&lo), Some(&hi)) => {
+                let (lo, hi) = (lo as usize, hi as usize);
+                lo + self.cdf[lo..hi].partition_point(|c| *c <= u)
+            }
+            _ => self.cdf.partition_point(|c| *c <= u),
+        }
     }
 
     /// The probability of item `i` (0 for indices out of range).

@@ -322,6 +322,55 @@ fn distribution_edges() {
     assert_eq!((d.sample(0.9), d.len(), d.total()), ((0, 1.0), 1, 0.25));
 }
 
+/// The item whose interval of the cumulative sums (summed as `Distribution1d::new` sums them)
+/// holds `u`: cdf_i ≤ u < cdf_(i+1), by a plain binary search over all of them.
+fn item_by_bisection(weights: &[f64], u: f64) -> usize {
+    let total: f64 = weights.iter().sum();
+    let mut running = 0.0;
+    let mut cdf = vec![0.0];
+    for w in weights {
+        running += w;
+        cdf.push(running / total);
+    }
+    let last = weights.iter().rposition(|w| *w > 0.0).unwrap();
+    for c in &mut cdf[last + 1..] {
+        *c = 1.0;
+    }
+    cdf.partition_point(|c| *c <= u).saturating_sub(1).min(last)
+}
+
+proptest! {
+    /// The guide table only narrows the search: every uniform gets the item that a binary
+    /// search over the whole cdf gives, at random uniforms, at the table's own interval ends
+    /// j/M and the numbers either side of them, and at the cdf's values themselves.
+    #[test]
+    fn distribution_guide_table_finds_the_bisection_item(
+        weights in prop::collection::vec(
+            prop_oneof![Just(0.0), 0.0..1.0f64, 1e-9..1e-6f64, 1.0..1e6f64], 1..300),
+        uniforms in prop::collection::vec(0.0..1.0f64, 64),
+    ) {
+        prop_assume!(weights.iter().any(|w| *w > 0.0));
+        let d = Distribution1d::new(&weights).unwrap();
+        let intervals = weights.len().next_power_of_two() as f64;
+        let mut probes = uniforms.clone();
+        for j in 0..=(intervals as usize) {
+            let x = j as f64 / intervals;
+            probes.extend([x, x.next_down(), x.next_up()]);
+        }
+        let mut running = 0.0;
+        let total: f64 = weights.iter().sum();
+        for w in &weights {
+            running += w;
+            probes.extend([running / total, (running / total).next_down()]);
+        }
+        for u in probes.into_iter().filter(|u| (0.0..=1.0).contains(u)) {
+            let (i, p) = d.sample(u);
+            prop_assert_eq!(i, item_by_bisection(&weights, u), "u = {}", u);
+            prop_assert!(p > 0.0);
+        }
+    }
+}
+
 // ---------------------------------------------------------------- frames
 
 fn check_frame(n: DVec3) {
