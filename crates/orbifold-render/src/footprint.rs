@@ -288,13 +288,11 @@ pub fn sphere_coverage(
         sphere.centre,
         sphere.height,
         sphere.clearance_sine,
+        (0.0, end + slack),
     )
     else {
         return Glimpse::Unresolved;
     };
-    if !(s >= 0.0 && s <= end + slack) {
-        return Glimpse::Unresolved;
-    }
     let diameter = 2.0 * sphere.radius;
     let (across, up) = footprint.widths(space, travelled + s, ray.cos_elevation);
     let caps = (
@@ -351,13 +349,16 @@ pub(crate) struct Approach {
 /// perpendicular (S(d⊥) = ⟨c − p, v⟩ across the horizontal geodesic, C(d⊥)·S(σ) = ⟨c − p, u⟩
 /// along it), then the nearest point in the flat vertical plane over the geodesic. `None` when
 /// the point is as far across as the distance whose S_κ is `within_sine` or farther (tested
-/// before the costlier part).
+/// before the costlier part), or when the closest approach's arc length is outside `s_range`
+/// (tested before the offset across is worked out: a ray's stretch between two mirrors passes
+/// a light at most once, and most stretches near it pass it before or after their ends).
 pub(crate) fn closest_approach(
     space: Space,
     ray: &Ray,
     centre: DVec3,
     height: f64,
     within_sine: f64,
+    s_range: (f64, f64),
 ) -> Option<Approach> {
     let k = space.kappa();
     let (ca, sa) = (ray.cos_elevation, ray.sin_elevation);
@@ -373,11 +374,6 @@ pub(crate) fn closest_approach(
     if gamma.abs() >= within_sine || gamma.is_nan() {
         return None;
     }
-    let lateral = if k < 0.0 {
-        asinh_fast(gamma)
-    } else {
-        space.asin(gamma)
-    };
     let m = (1.0 - k * gamma * gamma).max(0.0).sqrt();
     let sigma = if k > 0.0 {
         along.atan2(space.point_dot(centre, p) / k)
@@ -387,8 +383,17 @@ pub(crate) fn closest_approach(
         asinh_fast(along / m)
     };
     let rise = height - ray.height;
+    let s = sigma * ca + rise * sa;
+    if !(s >= s_range.0 && s <= s_range.1) {
+        return None;
+    }
+    let lateral = if k < 0.0 {
+        asinh_fast(gamma)
+    } else {
+        space.asin(gamma)
+    };
     Some(Approach {
-        s: sigma * ca + rise * sa,
+        s,
         across: lateral,
         up: rise * ca - sigma * sa,
     })
@@ -531,10 +536,18 @@ mod tests {
             // Refused exactly when the centre is `within` or farther across (it is |off| across).
             let within = 0.04 * (yaw * 7.0).fract();
             if (off.abs() - within).abs() > 1e-9 {
-                let seen = closest_approach(space, &ray, centre, height, space.sin(within));
+                let seen = closest_approach(space, &ray, centre, height, space.sin(within), (f64::NEG_INFINITY, f64::INFINITY));
                 prop_assert_eq!(seen.is_some(), off.abs() < within);
             }
-            let approach = closest_approach(space, &ray, centre, height, space.sin(1.0)).unwrap();
+            let approach = closest_approach(space, &ray, centre, height, space.sin(1.0), (f64::NEG_INFINITY, f64::INFINITY)).unwrap();
+            // The arc-length range is a filter on that same s: in it, the same approach.
+            let near = (approach.s - 1e-3, approach.s + 1e-3);
+            let within_range = closest_approach(space, &ray, centre, height, space.sin(1.0), near);
+            prop_assert_eq!(within_range, Some(approach));
+            let after = (approach.s + 1e-3, f64::INFINITY);
+            prop_assert!(closest_approach(space, &ray, centre, height, space.sin(1.0), after).is_none());
+            let before = (f64::NEG_INFINITY, approach.s - 1e-3);
+            prop_assert!(closest_approach(space, &ray, centre, height, space.sin(1.0), before).is_none());
             let distance = |s: f64| {
                 let (p, hp) = ray.point_at(space, s);
                 space.ambient_distance(p, centre).hypot(hp - height)
