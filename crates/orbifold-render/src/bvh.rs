@@ -385,7 +385,9 @@ fn height_slab(
     (lo <= hi).then_some((lo, hi))
 }
 
-/// The mesh's gnomonic chart: centre c, an orthonormal tangent frame (e₁, e₂) there, and
+/// The mesh's gnomonic chart: centre c, an orthonormal tangent frame (e₁, e₂) there along the
+/// principal axes of the vertices' chart points (so that the boxes of an object turned askew
+/// are as tight as those of one lying along the frame), and
 /// g(x) = (⟨x − c, e₁⟩, ⟨x − c, e₂⟩)/C(d(x, c)), with C(d) = 1 − κ·½|x − c|²_κ (cos, 1, cosh).
 /// It takes geodesics to straight lines in all three geometries (the Beltrami–Klein model on
 /// H², the gnomonic projection of the open hemisphere about c on S², the identity on E²), so a
@@ -426,9 +428,29 @@ impl Chart {
             quintic: 0.0,
         };
         let mut t_max = 0.0f64;
+        // The chart points' second moments, for the principal axes.
+        let (mut n, mut sum, mut moments) = (0.0, [0.0; 2], [0.0; 3]);
         for v in vertices {
             let [x, y] = chart.coords(v)?;
             t_max = t_max.max(x.hypot(y));
+            n += 1.0;
+            sum = [sum[0] + x, sum[1] + y];
+            moments = [moments[0] + x * x, moments[1] + x * y, moments[2] + y * y];
+        }
+        // Turn the frame onto the principal axes of the vertices' chart points: every node's
+        // box is taken along the frame's axes, and a long mesh lying askew would have boxes
+        // wider than its nodes (the root's most of all).
+        if n > 0.0 {
+            let (mx, my) = (sum[0] / n, sum[1] / n);
+            let sxx = moments[0] / n - mx * mx;
+            let sxy = moments[1] / n - mx * my;
+            let syy = moments[2] / n - my * my;
+            let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+            if angle.is_finite() {
+                let (sin, cos) = angle.sin_cos();
+                let [e1, e2] = chart.frame;
+                chart.frame = [e1 * cos + e2 * sin, e2 * cos - e1 * sin];
+            }
         }
         let t_max = t_max * (1.0 + 1e-9) + 1e-12;
         if !t_max.is_finite() || (kappa > 0.0 && t_max > 10.0) || (kappa < 0.0 && t_max > 0.999) {
@@ -2229,6 +2251,41 @@ mod tests {
 
     /// A mesh too wide for a chart (beyond 84° from its centre on S², 3.8 on H²) has none and
     /// is traversed by its discs, with the same hits as testing every triangle.
+    /// The chart's axes follow the mesh: a long thin strip of triangles lying at 30° to the
+    /// tangent frame gets a root box about as large as the strip itself (a box along the
+    /// frame's own axes would be about 0.5 × 1 × 0.5 × 1 = 0.25 square units).
+    #[test]
+    fn the_chart_axes_follow_a_long_mesh() {
+        for g in [
+            Geometry::Spherical,
+            Geometry::Euclidean,
+            Geometry::Hyperbolic,
+        ] {
+            let space = Space::new(g);
+            let [e1, e2] = space.tangent_frame(DVec3::Z);
+            let (along, across) = (e1 * 0.866 + e2 * 0.5, e2 * 0.866 - e1 * 0.5);
+            let (mut points, mut heights, mut triangles) = (Vec::new(), Vec::new(), Vec::new());
+            for i in 0..40u32 {
+                let t = f64::from(i) / 39.0 - 0.5;
+                for (a, b) in [(t, -0.01), (t + 0.01, 0.01), (t, 0.01)] {
+                    points.push(space.exp(DVec3::Z, along * a + across * b));
+                    heights.push(0.5);
+                }
+                triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
+            }
+            let bvh = Bvh::build(space, &points, &heights, &triangles);
+            let root = bvh.root.unwrap();
+            let area =
+                (root.chart_hi[0] - root.chart_lo[0]) * (root.chart_hi[1] - root.chart_lo[1]);
+            assert!(
+                area < 0.03,
+                "{g:?}: root box {:?} – {:?}",
+                root.chart_lo,
+                root.chart_hi
+            );
+        }
+    }
+
     #[test]
     fn a_mesh_too_wide_for_a_chart_is_traversed_by_its_discs() {
         for (g, radius) in [(Geometry::Spherical, 1.55), (Geometry::Hyperbolic, 4.2)] {
