@@ -221,7 +221,7 @@ pub struct ImageArgs {
     /// Candidates drawn for each light sample, of which one is kept (∝ its light if nothing
     /// blocks it) and tested for visibility: 1 is the plain light sample; more lower the noise
     /// of direct light through many mirror images for a little time each (1-16). By default 2
-    /// where light sampling has at most 256 choices of light image (the spherical rooms), else 4.
+    /// where light sampling has at most 256 choices of light image (the spherical rooms), else 3.
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(orbifold_render::integrator::MAX_LIGHT_CANDIDATES)))]
     pub light_candidates: Option<u32>,

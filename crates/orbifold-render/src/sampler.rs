@@ -392,8 +392,8 @@ pub struct Distribution1d {
     /// A guide table (Chen and Asau's cutpoints) over M = 2ᵏ equal intervals of u: entry j is
     /// the first index whose cdf exceeds j/M, so that a `u` in [j/M, (j + 1)/M) is looked for
     /// only between entries j and j + 1 — a step or two instead of a binary search over all
-    /// the cdf, whose chain of dependent reads missed the cache for a room's thousands of
-    /// light images. (M is a power of two so that ⌊u·M⌋ = j is exact.)
+    /// the cdf, a chain of a dozen reads each waiting on the one before for a room's thousands
+    /// of light images. (M is a power of two so that ⌊u·M⌋ = j is exact.)
     guide: Vec<u32>,
 }
 
