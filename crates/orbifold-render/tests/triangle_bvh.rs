@@ -572,19 +572,28 @@ fn bvh_agrees_with_brute_force() {
         let mut rng = Rng::new(7);
         let (points, heights, triangles) = soup(space, 3000, &mut rng);
         let bvh = Bvh::build(space, &points, &heights, &triangles);
-        // Leaves of at most 4 triangles, nodes of at most 4 children: at least 750 leaves under
-        // at least 188 nodes, 5 levels deep.
+        // Leaves of at most 4 triangles, nodes of at most 8 children: at least 750 leaves under
+        // at least 107 nodes, 4 levels deep.
         assert!(
-            bvh.depth() >= 5 && bvh.depth() <= 64,
+            bvh.depth() >= 4 && bvh.depth() <= 64,
             "{g:?}: depth {}",
             bvh.depth()
         );
-        assert!(bvh.node_count() >= triangles.len() / 16);
+        assert!(bvh.node_count() >= triangles.len() / 28);
         let (mut hits, mut rays) = (0, 0);
         // Brute force over the soup is slow unoptimised: fewer rays in debug builds (CI).
         let total = if cfg!(debug_assertions) { 1000 } else { 3000 };
         while rays < total {
             let ray = random_ray(space, &mut rng);
+            // Every fourth ray level or nearly so: the heights' slab of the BVH's f32 lanes
+            // grows without bound as the climb goes to 0 (and leaves f32's range at 1e-31,
+            // where the discs are tested instead).
+            let ray = if rays % 4 == 0 {
+                let elevation = [0.0, 1e-31, -1e-12, 1e-6, -1e-3][(rays / 4) % 5];
+                Ray::new(space, ray.origin, ray.direction, ray.height, elevation)
+            } else {
+                ray
+            };
             let s_max = 3.0;
             let expected = brute_force(space, &points, &heights, &triangles, &ray, s_max);
             let got = bvh.intersect(space, &ray, 0.0, s_max);
