@@ -1200,6 +1200,49 @@ impl<const K: i32> Lanes for BoxLanes<K> {
     }
 }
 
+/// The ray's part a search looks at: its space, frame and arc lengths [s_min, s_max].
+#[derive(Clone, Copy)]
+struct Segment<'a> {
+    space: Space,
+    frame: &'a RayFrame,
+    s_min: f64,
+    s_max: f64,
+}
+
+/// A search of the tree ([`Nearest`] or [`Any`]), generic over the lanes that test its nodes.
+trait Search {
+    type Found;
+    /// What a ray that misses the root finds.
+    const MISSED: Self::Found;
+    fn run<L: Lanes>(self, bvh: &Bvh, at: &Segment, lanes: &L) -> Self::Found;
+}
+
+/// The nearest hit ([`Bvh::intersect`]).
+struct Nearest;
+
+impl Search for Nearest {
+    type Found = Option<TriangleHit>;
+    const MISSED: Option<TriangleHit> = None;
+
+    #[inline(always)]
+    fn run<L: Lanes>(self, bvh: &Bvh, at: &Segment, lanes: &L) -> Option<TriangleHit> {
+        bvh.nearest(at, lanes)
+    }
+}
+
+/// Whether anything is hit ([`Bvh::occluded`]).
+struct Any;
+
+impl Search for Any {
+    type Found = bool;
+    const MISSED: bool = false;
+
+    #[inline(always)]
+    fn run<L: Lanes>(self, bvh: &Bvh, at: &Segment, lanes: &L) -> bool {
+        bvh.any(at, lanes)
+    }
+}
+
 /// Whether a lane's entry is at most `bound` (never for a NaN: a lane that was not met).
 #[inline(always)]
 fn is_met<E: PartialOrd>(entry: E, bound: E) -> bool {
@@ -1660,26 +1703,43 @@ impl Bvh {
         s_min: f64,
         s_max: f64,
     ) -> Option<TriangleHit> {
+        self.search(space, ray, (s_min, s_max), Nearest)
+    }
+
+    /// Runs `search` with the lanes that suit the ray (its chart's f32 boxes, or the discs),
+    /// after the two tests that turn most rays away before their frame is built.
+    #[inline(always)]
+    fn search<S: Search>(
+        &self,
+        space: Space,
+        ray: &Ray,
+        (s_min, s_max): (f64, f64),
+        search: S,
+    ) -> S::Found {
         debug_assert_eq!(
             space.kappa(),
             self.kappa,
             "the BVH was built for another geometry"
         );
         if !self.heights_met(ray, s_min, s_max) || self.root_missed(ray) {
-            return None;
+            return S::MISSED;
         }
         let frame = RayFrame::new(space, ray);
+        let at = Segment {
+            space,
+            frame: &frame,
+            s_min,
+            s_max,
+        };
         match self.chart_lanes(&frame, s_min) {
-            Some(lanes) if self.kappa > 0.0 => {
-                self.nearest(space, &frame, &BoxLanes::<1>(lanes), s_min, s_max)
-            }
-            Some(lanes) => self.nearest(space, &frame, &BoxLanes::<0>(lanes), s_min, s_max),
+            Some(lanes) if self.kappa > 0.0 => search.run(self, &at, &BoxLanes::<1>(lanes)),
+            Some(lanes) => search.run(self, &at, &BoxLanes::<0>(lanes)),
             None => {
                 let lanes = DiscLanes {
                     frame: &frame,
                     s_lo: s_min,
                 };
-                self.nearest(space, &frame, &lanes, s_min, s_max)
+                search.run(self, &at, &lanes)
             }
         }
     }
@@ -1694,14 +1754,13 @@ impl Bvh {
 
     /// The nearest hit, the children tested by `lanes`.
     #[inline(always)]
-    fn nearest<L: Lanes>(
-        &self,
-        space: Space,
-        frame: &RayFrame,
-        lanes: &L,
-        s_min: f64,
-        s_max: f64,
-    ) -> Option<TriangleHit> {
+    fn nearest<L: Lanes>(&self, at: &Segment, lanes: &L) -> Option<TriangleHit> {
+        let Segment {
+            space,
+            frame,
+            s_min,
+            s_max,
+        } = *at;
         let mut best_s = s_max;
         let mut bound = lanes.bound(s_max);
         let entry = lanes.entries(self, &self.root_node, None, bound)[0];
@@ -1780,40 +1839,18 @@ impl Bvh {
 
     #[inline(always)]
     fn occluded_portable(&self, space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool {
-        debug_assert_eq!(
-            space.kappa(),
-            self.kappa,
-            "the BVH was built for another geometry"
-        );
-        if !self.heights_met(ray, s_min, s_max) || self.root_missed(ray) {
-            return false;
-        }
-        let frame = RayFrame::new(space, ray);
-        match self.chart_lanes(&frame, s_min) {
-            Some(lanes) if self.kappa > 0.0 => {
-                self.any(space, &frame, &BoxLanes::<1>(lanes), s_min, s_max)
-            }
-            Some(lanes) => self.any(space, &frame, &BoxLanes::<0>(lanes), s_min, s_max),
-            None => {
-                let lanes = DiscLanes {
-                    frame: &frame,
-                    s_lo: s_min,
-                };
-                self.any(space, &frame, &lanes, s_min, s_max)
-            }
-        }
+        self.search(space, ray, (s_min, s_max), Any)
     }
 
     /// Whether any triangle is hit, the children tested by `lanes`.
     #[inline(always)]
-    fn any<L: Lanes>(
-        &self,
-        space: Space,
-        frame: &RayFrame,
-        lanes: &L,
-        s_min: f64,
-        s_max: f64,
-    ) -> bool {
+    fn any<L: Lanes>(&self, at: &Segment, lanes: &L) -> bool {
+        let Segment {
+            space,
+            frame,
+            s_min,
+            s_max,
+        } = *at;
         let bound = lanes.bound(s_max);
         if !is_met(lanes.entries(self, &self.root_node, None, bound)[0], bound) {
             return false; // missed
