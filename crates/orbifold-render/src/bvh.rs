@@ -2448,11 +2448,12 @@ mod tests {
         }
     }
 
-    /// Every lane of `chart_entries` is conservative: never a miss, and never an entry after
-    /// a point of the ray that is inside the child's chart box and height interval and within
-    /// the chart's radius; and it is not much before the first such point (only by the bound
-    /// on T⁻¹ and the sampling step). Rays of every kind: level, steep, from far away, long
-    /// (several turns round the sphere), with s_max = +∞.
+    /// Every f32 lane of [`ChartLanes::entries`] is conservative: never a miss, and never an
+    /// entry after a point of the ray that is inside the child's chart box and height interval
+    /// and within the chart's radius; and it is not much before the first such point (only by
+    /// the bound on T⁻¹, the lanes' pads and the sampling step). Rays of every kind: level,
+    /// steep, nearly vertical, from far away, long (several turns round the sphere), with
+    /// s_max = +∞.
     #[test]
     fn the_chart_box_test_is_conservative_and_tight() {
         for g in [
@@ -2512,6 +2513,8 @@ mod tests {
                 let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, 0.0);
                 let elevation = match case % 5 {
                     0 => 0.0,
+                    // Nearly vertical (cos α down to 10⁻³): σ' barely moves along the ray.
+                    1 if case % 3 == 0 => (1.0 - 1e-3 * rnd()).copysign(rnd() - 0.5) * FRAC_PI_2,
                     _ => 1.4 * (rnd() - 0.5),
                 };
                 let ray = Ray::new(space, origin, dir, rnd(), elevation);
