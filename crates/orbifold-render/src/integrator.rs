@@ -1715,8 +1715,7 @@ impl Integrator {
             Some((_, aimed)) => aimed,
             None => {
                 let from = (entry.turns == 0).then(|| (image.inverse * at.x, at.h));
-                aimed.push((index, light.aimed_at(space, from)));
-                &aimed[aimed.len() - 1].1
+                light.push_aimed(space, from, index, aimed)
             }
         };
         let point = aimed.sample(space, u_point, v)?;
