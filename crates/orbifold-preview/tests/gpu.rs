@@ -11,10 +11,10 @@ use orbifold::growth::growth_series;
 use orbifold::{Geometry, Signature};
 use orbifold_preview::mesh;
 use orbifold_preview::{Gpu, Preview, PreviewError, Projection, Settings};
-use orbifold_render::aov;
-use orbifold_render::camera::Camera;
-use orbifold_render::tracer::Tracer;
 use orbifold_scene::{Attenuation, Scene};
+use orbifold_trace::aov;
+use orbifold_trace::camera::Camera;
+use orbifold_trace::tracer::Tracer;
 
 fn gpu() -> Option<Gpu> {
     match Gpu::headless() {

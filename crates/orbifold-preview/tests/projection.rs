@@ -7,8 +7,8 @@ use orbifold::space::Space;
 use orbifold::{Geometry, Layout, LayoutOptions};
 use orbifold_preview::copies::{Words, copies};
 use orbifold_preview::projection::{Projection, View};
-use orbifold_render::camera::Camera;
 use orbifold_scene::{Attenuation, Camera as CameraSettings};
+use orbifold_trace::camera::Camera;
 use proptest::prelude::*;
 
 const WIDTH: u32 = 640;

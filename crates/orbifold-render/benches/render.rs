@@ -19,17 +19,17 @@ use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterio
 use glam::DVec3;
 use orbifold::Geometry;
 use orbifold::space::Space;
-use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use orbifold_render::film::{Film, Splat};
 use orbifold_render::filter::PixelFilter;
-use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
-use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{FirstHit, Integrator, Settings};
 use orbifold_render::radiance_cache::{Deposit, RadianceCache};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_render::sampler::Sampler;
 use orbifold_scene::Scene;
+use orbifold_trace::camera::Camera;
+use orbifold_trace::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
+use orbifold_trace::geodesic::Ray;
 
 fn default_room(signature: &str) -> Scene {
     let mut scene = Scene::default();

@@ -42,15 +42,15 @@
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
 use orbifold_render::film::{Film, tone_map};
 use orbifold_render::filter::PixelFilter;
-use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{Progressive, RenderOptions, render};
-use orbifold_render::room::AnalyticRoom;
 use orbifold_scene::{LightKind, Scene};
+use orbifold_trace::camera::Camera;
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::room::AnalyticRoom;
 
 struct Args {
     size: u32,

@@ -38,11 +38,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::fastmath::{exp_fast, ln_fast};
 use crate::film::{Film, Splat, luminance};
 use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
 use crate::light::Rgb;
+use orbifold_trace::fastmath::{exp_fast, ln_fast};
 
 /// The per-pixel means of what camera paths saw first, and the parts of their radiance that the
 /// denoiser treats apart: the light seen directly, and the mean and variance of the first
@@ -993,7 +993,7 @@ impl<'a> Guide<'a> {
         tolerance: &[Vec<f64>; PARTS],
         scratch: &mut ([RowSums; PARTS], TapRuns),
     ) {
-        crate::cpu::with_avx512!(Guide<'_>, self.filter_row_portable(
+        orbifold_trace::with_avx512!(Guide<'_>, self.filter_row_portable(
             y: usize,
             step: usize,
             planes: &[Planes; PARTS],

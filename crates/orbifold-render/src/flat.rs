@@ -19,10 +19,10 @@ use orbifold::Geometry;
 use orbifold::embed::Placement;
 use orbifold::space::Space;
 
-use crate::bvh::Bvh;
-use crate::instance::{Instance, Instances};
 use crate::light::{Emitter, Light, TangentFrame, mesh_emitter};
-use crate::tracer::Tracer;
+use orbifold_trace::bvh::Bvh;
+use orbifold_trace::instance::{Instance, Instances};
+use orbifold_trace::tracer::Tracer;
 
 /// The flat plane of straight rays.
 pub fn flat_space() -> Space {
@@ -60,7 +60,7 @@ fn flatten_instance(curved: Space, instance: &Instance) -> Instance {
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
 /// use orbifold_render::flat::flatten_tracer;
-/// use orbifold_render::tracer::Tracer;
+/// use orbifold_trace::tracer::Tracer;
 /// let layout = Layout::new(&"*2223".parse()?, &LayoutOptions::default())?;
 /// let tracer = Tracer::mirror_room(layout, 1.0)?;
 /// let flat = flatten_tracer(&tracer);

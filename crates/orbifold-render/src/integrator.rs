@@ -20,20 +20,20 @@ use orbifold_scene::geometry::representative;
 use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
 use crate::bsdf::{Bsdf, marble};
-use crate::fastmath::{asin_fast, ln_fast};
 use crate::flat::{flatten_light, flatten_tracer};
-use crate::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
-use crate::geodesic::Ray;
 use crate::light::{
     AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, aim_at,
     connect, reflection_matrix, spread, travel_direction, turned,
 };
 use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
-use crate::room::RoomSurface;
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
 use crate::texture::ImageTexture;
-use crate::tracer::{SurfaceId, Tracer};
-use crate::triangle::TriangleHit;
+use orbifold_trace::fastmath::{asin_fast, ln_fast};
+use orbifold_trace::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::room::RoomSurface;
+use orbifold_trace::tracer::{SurfaceId, Tracer};
+use orbifold_trace::triangle::TriangleHit;
 
 /// How far a new ray starts from the surface it leaves (intrinsic units).
 const RAY_EPSILON: f64 = 1e-7;
@@ -44,7 +44,7 @@ pub const MAX_MIRROR_BOUNCES: usize = 256;
 /// Below this luminance of a path's throughput, mirror chains play Russian roulette.
 const ROULETTE_LEVEL: f64 = 0.1;
 /// The level for a camera ray that carries its pixel's footprint, much lower: every stretch of
-/// it gathers the light images near it ([`crate::footprint`]), so that a march cut short
+/// it gathers the light images near it ([`orbifold_trace::footprint`]), so that a march cut short
 /// early loses a long tail of them, and the paths that survive carry that tail weighted up
 /// (at `ROULETTE_LEVEL` this was nearly all the variance of the band of far light images at
 /// the horizon of a hyperbolic room; docs/benchmarks.md).
@@ -66,7 +66,7 @@ pub struct Settings {
     /// Light as if space were flat: the room's model picture rendered with straight rays (see
     /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
     pub straight_rays: bool,
-    /// Carry each camera ray's pixel footprint ([`crate::footprint`]; on by default): the
+    /// Carry each camera ray's pixel footprint ([`orbifold_trace::footprint`]; on by default): the
     /// light's mirror images up to a few pixels wide count by the share of the pixel they
     /// cover, not by ray hits, and checkerboards are averaged over the footprint. It needs the room's
     /// mirrors to be isometries, so straight rays never carry it.
@@ -487,7 +487,7 @@ const COSINE_FLOOR: f64 = 0.05;
 /// enormous radiance: a box of ±0.1 rad around the ray (the radiance cache's
 /// [`radiance_cache::DIFFUSE_SPREAD`]), over which a Lambertian lobe hardly changes (a glossy
 /// one could, so glossy bounces leave those images to ray hits). Capped at each light as a
-/// camera's footprint is ([`crate::footprint`]). Not on the sphere, whose images are few and
+/// camera's footprint is ([`orbifold_trace::footprint`]). Not on the sphere, whose images are few and
 /// all drawn.
 const BOUNCE_GLIMPSE: Footprint = Footprint {
     across: radiance_cache::DIFFUSE_SPREAD,
@@ -495,7 +495,7 @@ const BOUNCE_GLIMPSE: Footprint = Footprint {
     centre: [0.0; 2],
 };
 
-/// The footprint a march counts small sphere-light images with ([`crate::footprint`]).
+/// The footprint a march counts small sphere-light images with ([`orbifold_trace::footprint`]).
 #[derive(Clone, Copy, Debug)]
 enum Glimpses<'a> {
     /// A camera ray's pixel: every image.
@@ -1106,7 +1106,7 @@ impl Integrator {
     /// product. Images behind the surface then weigh next to nothing (the cosine's floor), and
     /// on the floor and the ceiling far images weigh as 1/ℓ³ rather than 1/ℓ².
     fn near_weights(&self, x: DVec3, h: f64, normal: Normal, weights: &mut [f64; NEAR_MAX]) -> f64 {
-        crate::cpu::with_avx512!(
+        orbifold_trace::with_avx512!(
             Integrator,
             self.near_weights_portable(
                 x: DVec3,
@@ -1284,7 +1284,7 @@ impl Integrator {
     /// chains of dim reflections stop early).
     ///
     /// With a `footprint` (a camera ray's pixel), sphere lights whose images are smaller than the
-    /// footprint are counted by the share of it that they cover ([`crate::footprint`]).
+    /// footprint are counted by the share of it that they cover ([`orbifold_trace::footprint`]).
     ///
     /// With `visibility_only` (a connection to a light), the march only needs to know whether
     /// it gets through: it ends `Blocked` at the first thing in the way that is not a mirror.
@@ -1911,7 +1911,7 @@ impl Integrator {
 
     /// [`Integrator::sample`] for a camera ray that carries its pixel's footprint: sphere lights
     /// whose mirror images are smaller than the pixel are counted by the share of the pixel
-    /// they cover, not by the ray's hit or miss ([`crate::footprint`]; what renders use).
+    /// they cover, not by the ray's hit or miss ([`orbifold_trace::footprint`]; what renders use).
     pub fn sample_pixel(
         &self,
         ray: &Ray,

@@ -30,12 +30,12 @@ use orbifold::embed::{Placement, embed};
 use orbifold::space::Space;
 use orbifold_scene::{LightKind, Scene};
 
-use crate::bvh::Bvh;
-use crate::cpu::with_avx512;
-use crate::geodesic::Ray;
-use crate::instance::Instance;
-use crate::room::AnalyticRoom;
 use crate::sampler::Distribution1d;
+use orbifold_trace::bvh::Bvh;
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::instance::Instance;
+use orbifold_trace::room::AnalyticRoom;
+use orbifold_trace::with_avx512;
 
 /// Linear RGB.
 pub type Rgb = [f64; 3];
@@ -1040,7 +1040,7 @@ impl Light {
     }
 
     /// For a sphere light: the radius of its mesh's outline and its radiance (what
-    /// [`crate::footprint`] needs); `None` for other lights.
+    /// [`orbifold_trace::footprint`] needs); `None` for other lights.
     pub fn sphere(&self) -> Option<(f64, Rgb)> {
         match &self.emitter {
             Emitter::Area {
@@ -1420,7 +1420,8 @@ mod tests {
                 &orbifold::LayoutOptions::default(),
             )
             .unwrap();
-            let room = crate::room::AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3]).unwrap();
+            let room =
+                orbifold_trace::room::AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3]).unwrap();
             let set = ImageSet::new(&room, room.space.to_ambient(layout.centre));
             assert!(set.images.len() > 40, "{signature}");
             for (i, image) in set.images.iter().enumerate() {

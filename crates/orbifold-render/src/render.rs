@@ -42,13 +42,13 @@ use std::time::{Duration, Instant};
 use orbifold_scene::Scene;
 use rayon::prelude::*;
 
-use crate::camera::Camera;
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::{Film, Splat};
 use crate::filter::PixelFilter;
 use crate::integrator::{FirstHit, Integrator, PathSample, Settings};
 use crate::radiance_cache::{Deposit, RadianceCache};
 use crate::sampler::Sampler;
+use orbifold_trace::camera::Camera;
 
 /// What to render.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,5 +1,5 @@
 //! Image textures that repeat over the plane, looked up at a point or averaged over a box (a
-//! camera ray's pixel footprint, [`crate::footprint`]) through a summed-area table: the exact
+//! camera ray's pixel footprint, [`orbifold_trace::footprint`]) through a summed-area table: the exact
 //! mean of the piecewise-constant image over any box, wrapping around, in constant time.
 
 use std::sync::Arc;

@@ -1,11 +1,11 @@
-//! Camera rays that carry their pixel's footprint (`orbifold_render::footprint`): the tiny mirror
+//! Camera rays that carry their pixel's footprint (`orbifold_trace::footprint`): the tiny mirror
 //! images of a sphere light are counted by the share of the pixel they cover. The image's mean
 //! must not change, and its noise must fall.
 
-use orbifold_render::camera::Camera;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::sampler::Sampler;
 use orbifold_scene::{Coordinates, LightKind, Material, Scene};
+use orbifold_trace::camera::Camera;
 
 /// A room of `signature` whose walls are all mirrors, with a small sphere light near the
 /// ceiling, seen by a camera that looks along the room so that the light's images shrink below

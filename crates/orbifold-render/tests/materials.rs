@@ -10,9 +10,9 @@ use orbifold_render::film::Film;
 use orbifold_render::integrator::Settings;
 use orbifold_render::light::{TangentFrame, connect, spread, travel_direction};
 use orbifold_render::render::{RenderOptions, render_scene};
-use orbifold_render::tracer::{SurfaceId, Tracer};
-use orbifold_render::triangle::TriangleHit;
 use orbifold_scene::{Material, Mirror, MirrorDefault, Object, Scene, Wall};
+use orbifold_trace::tracer::{SurfaceId, Tracer};
+use orbifold_trace::triangle::TriangleHit;
 
 const ALBEDO: f64 = 0.5;
 const GLOW: f64 = 0.25;

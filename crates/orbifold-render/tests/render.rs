@@ -758,10 +758,10 @@ proptest::proptest! {
         yaw in 0.0f64..std::f64::consts::TAU, pitch in -0.4f64..0.4,
     ) {
         use num_complex::Complex64;
-        use orbifold_render::geodesic::Ray;
+        use orbifold_trace::geodesic::Ray;
         use orbifold_render::integrator::Integrator;
         use orbifold_render::sampler::Sampler;
-        use orbifold_render::tracer::Tracer;
+        use orbifold_trace::tracer::Tracer;
         let signature = ["*235", "*2222", "*333", "*2223"][g];
         let mut scene = scene(signature, LightKind::Sphere);
         scene.lights.clear();

@@ -6,11 +6,11 @@ use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::{Layout, LayoutOptions};
 use orbifold_render::film::Film;
-use orbifold_render::geodesic::Ray;
 use orbifold_render::integrator::Settings;
 use orbifold_render::render::{RenderOptions, render_scene};
-use orbifold_render::room::{AnalyticRoom, RoomSurface};
 use orbifold_scene::{LightKind, Scene};
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::room::{AnalyticRoom, RoomSurface};
 use proptest::prelude::*;
 
 fn flat_room(signature: &str) -> (Layout, AnalyticRoom) {

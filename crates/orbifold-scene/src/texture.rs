@@ -123,7 +123,7 @@ impl Coords<'_> {
         let toward = space.log(start, self.mesher.wall_point(w, 0.25)?);
         let tangent = toward / space.point_dot(toward, toward).sqrt();
         let s = space.geodesic_parameter(start, tangent, p);
-        // As the renderer's room (orbifold_render::room): a polygon without corners is one
+        // As the renderer's room (orbifold_trace::room): a polygon without corners is one
         // closed wall, `*`, whose arc length runs on past the antipode.
         let closed = self.layout.vertices.is_empty();
         Some(if closed && s < 0.0 {

@@ -294,11 +294,11 @@ impl Studio {
             match self.document.scene().layout() {
                 Ok(layout) => {
                     let size = 512;
-                    let view = orbifold_render::tiling::View {
-                        coloring: orbifold_render::tiling::Coloring::Wall,
-                        ..orbifold_render::tiling::View::new(layout.space().geometry(), size)
+                    let view = orbifold_picture::tiling::View {
+                        coloring: orbifold_picture::tiling::Coloring::Wall,
+                        ..orbifold_picture::tiling::View::new(layout.space().geometry(), size)
                     };
-                    match orbifold_render::tiling::render(&layout, &view, None) {
+                    match orbifold_picture::tiling::render(&layout, &view, None) {
                         Ok(picture) => {
                             let image = egui::ColorImage::from_rgba_unmultiplied(
                                 [picture.size as usize; 2],

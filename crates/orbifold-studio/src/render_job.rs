@@ -8,11 +8,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
-use orbifold_render::camera::Camera;
 use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{Progressive, RenderOptions};
 use orbifold_scene::Scene;
+use orbifold_trace::camera::Camera;
 
 /// What a running render shares with the studio.
 #[derive(Default)]

@@ -10,11 +10,11 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use num_complex::Complex64;
 use orbifold::Layout;
-use orbifold_render::camera::Camera;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{RenderOptions, render};
 use orbifold_scene::Scene;
 use orbifold_scene::animation::{Path, Pose};
+use orbifold_trace::camera::Camera;
 use serde::Serialize;
 
 use crate::args::AnimateArgs;

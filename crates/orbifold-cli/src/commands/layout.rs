@@ -12,8 +12,8 @@ use serde::Serialize;
 use crate::args::{LayoutArgs, ShapeArg};
 use crate::error::CliError;
 use crate::output::{self, write_atomic};
-use crate::picture;
 use crate::report::OrderJson;
+use orbifold_picture::svg as picture;
 
 pub fn run(args: &LayoutArgs) -> Result<(), CliError> {
     let signature: Signature = args

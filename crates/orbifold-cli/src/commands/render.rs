@@ -6,12 +6,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use orbifold_render::camera::Camera;
 use orbifold_render::denoise::{DenoiseOptions, denoise};
 use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{RenderOptions, Rendered, render};
 use orbifold_scene::Scene;
+use orbifold_trace::camera::Camera;
 use serde::Serialize;
 
 use crate::args::{ImageArgs, RenderArgs};

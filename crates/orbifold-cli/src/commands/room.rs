@@ -98,12 +98,13 @@ fn write_picture(geometry: &RoomGeometry, path: &Path) -> std::io::Result<Vec<st
         },
         floor.triangles.len()
     );
-    let svg = crate::picture::mesh_svg(&geometry.layout, &points, &floor.triangles, &title, 640);
+    let svg =
+        orbifold_picture::svg::mesh_svg(&geometry.layout, &points, &floor.triangles, &title, 640);
     let bytes = if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"))
     {
-        crate::picture::svg_to_png(&svg).map_err(std::io::Error::other)?
+        orbifold_picture::svg::svg_to_png(&svg).map_err(std::io::Error::other)?
     } else {
         svg.into_bytes()
     };

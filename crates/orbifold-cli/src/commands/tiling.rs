@@ -6,13 +6,13 @@ use num_complex::Complex64;
 use orbifold::Signature;
 use orbifold::cover::{Bound, Cover};
 use orbifold::layout::{Layout, LayoutOptions};
-use orbifold_render::tiling::{Coloring, Model, Motif, View, render};
+use orbifold_picture::tiling::{Coloring, Model, Motif, View, render};
 
 use crate::args::{ColorArg, ModelArg, TilingArgs};
 use crate::commands::layout::numbers;
 use crate::error::CliError;
 use crate::output::{self, write_atomic};
-use crate::picture;
+use orbifold_picture::svg as picture;
 
 pub fn run(args: &TilingArgs) -> Result<(), CliError> {
     let signature: Signature = args

@@ -3,11 +3,11 @@
 use std::io::Write;
 
 use num_complex::Complex64;
-use orbifold_render::aov;
-use orbifold_render::camera::Camera;
-use orbifold_render::geodesic::Ray;
-use orbifold_render::tracer::{PathEnd, Tracer};
 use orbifold_scene::Scene;
+use orbifold_trace::aov;
+use orbifold_trace::camera::Camera;
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::tracer::{PathEnd, Tracer};
 use serde::Serialize;
 
 use crate::args::TraceArgs;

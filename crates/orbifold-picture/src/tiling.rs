@@ -208,7 +208,7 @@ impl Fold {
 /// Renders the cover of `layout` as seen in `view`.
 ///
 /// ```
-/// use orbifold_render::tiling::{render, View};
+/// use orbifold_picture::tiling::{render, View};
 /// use orbifold::layout::{Layout, LayoutOptions};
 /// let layout = Layout::new(&"*237".parse().unwrap(), &LayoutOptions::default()).unwrap();
 /// let picture = render(&layout, &View::new(layout.geometry, 64), None).unwrap();
@@ -386,7 +386,7 @@ fn sample(motif: &Motif, fold: &Fold, z: Complex64) -> [f64; 3] {
 /// ```
 /// use num_complex::Complex64;
 /// use orbifold::layout::{Layout, LayoutOptions};
-/// use orbifold_render::tiling::fold_point;
+/// use orbifold_picture::tiling::fold_point;
 /// let layout = Layout::new(&"*2222222".parse().unwrap(), &LayoutOptions::default()).unwrap();
 /// let (inside, depth, _) = fold_point(&layout, Complex64::new(0.0, 0.0), 100).unwrap();
 /// assert_eq!((inside, depth), (Complex64::new(0.0, 0.0), 0));

@@ -50,7 +50,7 @@ use crate::geodesic::Ray;
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::footprint::Footprint;
+/// use orbifold_trace::footprint::Footprint;
 /// let footprint = Footprint { across: 1e-3, up: 1e-3, centre: [0.0; 2] };
 /// let e2 = Space::new(Geometry::Euclidean);
 /// // In flat space both widths grow linearly with distance.
@@ -93,7 +93,7 @@ impl Footprint {
     /// is now on the other side of the ray.
     ///
     /// ```
-    /// use orbifold_render::footprint::Footprint;
+    /// use orbifold_trace::footprint::Footprint;
     /// let footprint = Footprint { across: 1e-3, up: 1e-3, centre: [2e-4, -1e-4] };
     /// assert_eq!(footprint.reflected().centre, [-2e-4, -1e-4]);
     /// ```
@@ -110,7 +110,7 @@ impl Footprint {
 /// ```
 /// use glam::DVec3;
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::footprint::Sphere;
+/// use orbifold_trace::footprint::Sphere;
 /// let h2 = Space::new(Geometry::Hyperbolic);
 /// let sphere = Sphere::new(h2, DVec3::Z, 0.5, 0.1, 0.4, 0.5);
 /// assert_eq!((sphere.radius(), sphere.clearance()), (0.1, 0.4));
@@ -200,7 +200,7 @@ pub const GLIMPSE_WIDTHS: f64 = 8.0;
 /// rectangle [−w/2, w/2] × [−h/2, h/2]: exact, in closed form.
 ///
 /// ```
-/// use orbifold_render::footprint::disc_in_rectangle;
+/// use orbifold_trace::footprint::disc_in_rectangle;
 /// use std::f64::consts::PI;
 /// // A disc inside the rectangle, a rectangle inside the disc, half a disc.
 /// assert!((disc_in_rectangle(0.1, -0.2, 0.5, 4.0, 4.0) - PI * 0.25).abs() < 1e-12);
@@ -253,8 +253,8 @@ fn below(a: f64, b: f64, y: f64, r: f64) -> f64 {
 /// ```
 /// use glam::DVec3;
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
-/// use orbifold_render::geodesic::Ray;
+/// use orbifold_trace::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
+/// use orbifold_trace::geodesic::Ray;
 /// let e2 = Space::new(Geometry::Euclidean);
 /// let ray = Ray::new(e2, DVec3::new(0.0, 0.0, 1.0), DVec3::X, 0.5, 0.0);
 /// let footprint = Footprint { across: 0.01, up: 0.01, centre: [0.0; 2] };

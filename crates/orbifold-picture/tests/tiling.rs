@@ -3,7 +3,7 @@
 use num_complex::Complex64;
 use orbifold::cover::reflection;
 use orbifold::layout::{Layout, LayoutOptions};
-use orbifold_render::tiling::{Coloring, Model, Motif, View, fold_point, render};
+use orbifold_picture::tiling::{Coloring, Model, Motif, View, fold_point, render};
 use proptest::prelude::*;
 
 fn layout(sig: &str) -> Layout {

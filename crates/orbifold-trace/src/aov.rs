@@ -56,7 +56,7 @@ pub struct PixelAov {
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
-/// use orbifold_render::{aov, camera::Camera, tracer::Tracer};
+/// use orbifold_trace::{aov, camera::Camera, tracer::Tracer};
 /// use orbifold_scene::Camera as Settings;
 /// let layout = Layout::new(&"*333".parse()?, &LayoutOptions::default())?;
 /// let tracer = Tracer::mirror_room(layout, 1.0)?;

@@ -145,8 +145,8 @@ pub struct RoomHit {
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
-/// use orbifold_render::geodesic::Ray;
-/// use orbifold_render::room::{AnalyticRoom, RoomSurface};
+/// use orbifold_trace::geodesic::Ray;
+/// use orbifold_trace::room::{AnalyticRoom, RoomSurface};
 /// use num_complex::Complex64;
 /// let layout = Layout::new(&"*333".parse()?, &LayoutOptions::default())?;
 /// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])?;

@@ -23,7 +23,7 @@ use crate::geodesic::Ray;
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::camera::Camera;
+/// use orbifold_trace::camera::Camera;
 /// use orbifold_scene::Camera as Settings;
 /// let settings = Settings { pitch: -20.0, ..Settings::default() };
 /// let camera = Camera::new(Space::new(Geometry::Hyperbolic), &settings);
@@ -86,7 +86,7 @@ impl Camera {
     ///
     /// ```
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_render::camera::Camera;
+    /// use orbifold_trace::camera::Camera;
     /// use orbifold_scene::Camera as Settings;
     /// let settings = Settings { fov: 90.0, ..Settings::default() };
     /// let camera = Camera::new(Space::new(Geometry::Euclidean), &settings);

@@ -18,7 +18,7 @@ use orbifold::space::Space;
 /// A unit-speed geodesic ray of the product space.
 ///
 /// ```
-/// use orbifold_render::geodesic::Ray;
+/// use orbifold_trace::geodesic::Ray;
 /// use orbifold::{Geometry, space::Space};
 /// use num_complex::Complex64;
 /// let h2 = Space::new(Geometry::Hyperbolic);
@@ -65,7 +65,7 @@ impl Ray {
     /// ```
     /// use glam::DVec3;
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_render::geodesic::Ray;
+    /// use orbifold_trace::geodesic::Ray;
     /// let h2 = Space::new(Geometry::Hyperbolic);
     /// let ray = Ray::climbing(h2, DVec3::Z, DVec3::X, 0.5, 3.0, 4.0);
     /// assert!((ray.cos_elevation - 0.6).abs() < 1e-15 && (ray.sin_elevation - 0.8).abs() < 1e-15);
@@ -165,7 +165,7 @@ impl Ray {
     /// [`Ray::point_and_tangent_at`]: [`Ray::advanced`] without computing them again.
     ///
     /// ```
-    /// use orbifold_render::geodesic::Ray;
+    /// use orbifold_trace::geodesic::Ray;
     /// use orbifold::{Geometry, space::Space};
     /// use num_complex::Complex64;
     /// let h2 = Space::new(Geometry::Hyperbolic);

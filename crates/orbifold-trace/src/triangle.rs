@@ -67,8 +67,8 @@ const MAX_TURNS: usize = 1024;
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::geodesic::Ray;
-/// use orbifold_render::triangle::Triangle;
+/// use orbifold_trace::geodesic::Ray;
+/// use orbifold_trace::triangle::Triangle;
 /// use glam::DVec3;
 /// let h2 = Space::new(Geometry::Hyperbolic);
 /// let tri = Triangle::new(
@@ -140,7 +140,7 @@ impl Triangle {
     ///
     /// ```
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_render::triangle::Triangle;
+    /// use orbifold_trace::triangle::Triangle;
     /// use glam::DVec3;
     /// let s2 = Space::new(Geometry::Spherical);
     /// let p = |x: f64, y: f64| s2.exp(DVec3::Z, DVec3::new(x, y, 0.0));
@@ -187,8 +187,8 @@ impl Triangle {
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::geodesic::Ray;
-/// use orbifold_render::triangle::PreparedTriangle;
+/// use orbifold_trace::geodesic::Ray;
+/// use orbifold_trace::triangle::PreparedTriangle;
 /// use glam::DVec3;
 /// let e2 = Space::new(Geometry::Euclidean);
 /// // A vertical triangle: two vertices share their horizontal position.
@@ -677,8 +677,9 @@ mod tests {
             hyperbolic in any::<bool>(),
         ) {
             let space = Space::new(if hyperbolic { Geometry::Hyperbolic } else { Geometry::Euclidean });
-            let mut sampler = crate::sampler::Sampler::new(seed, 0, 0);
-            let mut r = move || sampler.next_f64();
+            let mut rng = rand_pcg::Pcg64Mcg::new(u128::from(seed) << 1 | 1);
+            // 53 random bits as a number in [0, 1).
+            let mut r = move || (rand::Rng::next_u64(&mut rng) >> 11) as f64 / (1u64 << 53) as f64;
             let mut checked = 0;
             for _ in 0..200 {
                 let Some(tri) = triangle(space, &mut r) else { continue };

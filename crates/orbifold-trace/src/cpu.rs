@@ -12,7 +12,7 @@
 /// Whether this processor has AVX2 and FMA (x86-64 only; `false` elsewhere). The answer is
 /// cached by the standard library after the first call.
 #[inline]
-pub(crate) fn has_avx2_fma() -> bool {
+pub fn has_avx2_fma() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
@@ -26,7 +26,7 @@ pub(crate) fn has_avx2_fma() -> bool {
 /// Whether this processor has AVX-512 (foundation and vector-length extensions) besides AVX2
 /// and FMA (x86-64 only).
 #[inline]
-pub(crate) fn has_avx512() -> bool {
+pub fn has_avx512() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         has_avx2_fma()
@@ -42,6 +42,8 @@ pub(crate) fn has_avx512() -> bool {
 /// Calls `$self.$portable(…)` through a copy compiled with the target features `$features`
 /// when `$has()` says the processor has them, and returns its result; falls through otherwise.
 /// The method must be `#[inline(always)]`, so that it is compiled anew inside the copy.
+#[doc(hidden)]
+#[macro_export]
 macro_rules! call_with_features {
     ($features:literal, $has:path, $Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),*) -> $ret:ty) => {
         #[cfg(target_arch = "x86_64")]
@@ -59,7 +61,6 @@ macro_rules! call_with_features {
         }
     };
 }
-pub(crate) use call_with_features;
 
 /// Calls the method `$portable` of `$self` (of type `$Type`; the method must be
 /// `#[inline(always)]`, so that it is compiled anew inside the copy) through a copy compiled for
@@ -71,34 +72,34 @@ pub(crate) use call_with_features;
 ///     with_avx2!(Bvh, self.occluded_portable(space: Space, ray: &Ray, s_min: f64, s_max: f64) -> bool)
 /// }
 /// ```
+#[macro_export]
 macro_rules! with_avx2 {
     ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
-        $crate::cpu::call_with_features!("avx2,fma", $crate::cpu::has_avx2_fma, $Type,
+        $crate::call_with_features!("avx2,fma", $crate::cpu::has_avx2_fma, $Type,
             $self.$portable($($arg: $ty),*) -> $ret);
         $self.$portable($($arg),*)
     }};
 }
-pub(crate) use with_avx2;
 
 /// [`with_avx2`] with a third copy compiled for AVX-512, picked first where the processor has
 /// it: for the loops over many values (a light's triangles, a row of pixels, the light
 /// images), which fill sixteen f32 or eight f64 lanes a register. The same IEEE operations in
 /// the same order as the other copies, so the results are the same bits.
+#[macro_export]
 macro_rules! with_avx512 {
     ($Type:ty, $self:ident . $portable:ident ($($arg:ident : $ty:ty),* $(,)?) -> $ret:ty) => {{
-        $crate::cpu::call_with_features!("avx512f,avx512vl,avx2,fma", $crate::cpu::has_avx512,
+        $crate::call_with_features!("avx512f,avx512vl,avx2,fma", $crate::cpu::has_avx512,
             $Type, $self.$portable($($arg: $ty),*) -> $ret);
-        $crate::cpu::with_avx2!($Type, $self.$portable($($arg: $ty),*) -> $ret)
+        $crate::with_avx2!($Type, $self.$portable($($arg: $ty),*) -> $ret)
     }};
 }
-pub(crate) use with_avx512;
 
 /// Asks the processor to bring the cache lines of `value`'s first `lines` × 64 bytes into its
 /// caches (a hint: nothing is read, and nothing happens on other architectures). The BVH
 /// traversals ask for a node's children as soon as the node is read, so that the children's
 /// cache misses overlap the node's bound tests rather than follow them.
 #[inline(always)]
-pub(crate) fn prefetch<T>(value: &T, lines: usize) {
+pub fn prefetch<T>(value: &T, lines: usize) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};

@@ -15,13 +15,13 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use orbifold::space::Space;
 use orbifold::{Geometry, Layout, LayoutOptions};
-use orbifold_render::bvh::Bvh;
-use orbifold_render::camera::Camera;
-use orbifold_render::tracer::Tracer;
 use orbifold_scene::Camera as CameraSettings;
 use orbifold_scene::mesh::procedural::builtin;
+use orbifold_trace::bvh::Bvh;
+use orbifold_trace::camera::Camera;
+use orbifold_trace::tracer::Tracer;
 
-fn camera_rays(tracer: &Tracer, n: u32) -> Vec<orbifold_render::geodesic::Ray> {
+fn camera_rays(tracer: &Tracer, n: u32) -> Vec<orbifold_trace::geodesic::Ray> {
     let c = tracer.layout.centre;
     let settings = CameraSettings {
         at: [c.re, c.im],

@@ -7,7 +7,7 @@
 //! themselves, ignore).
 
 /// Absolute error bound of [`ln_fast`] and so of [`asinh_fast`] (what bounds are widened by).
-pub(crate) const LN_FAST_ERROR: f64 = 1e-10;
+pub const LN_FAST_ERROR: f64 = 1e-10;
 
 /// ln x for finite normal x > 0 (x ≥ 1 is what [`asinh_fast`] takes; the denoiser's cosines are
 /// in (0, 1]) to within [`LN_FAST_ERROR`]: x = 2^e·m with
@@ -15,7 +15,7 @@ pub(crate) const LN_FAST_ERROR: f64 = 1e-10;
 /// (the rest is below 2e-11). Inlined and branch-light, it costs a fraction of libm's `ln`, and
 /// a bound test does two of them.
 #[inline(always)]
-pub(crate) fn ln_fast(x: f64) -> f64 {
+pub fn ln_fast(x: f64) -> f64 {
     const MANTISSA: u64 = (1 << 52) - 1;
     let bits = x.to_bits();
     let mut exponent = ((bits >> 52) & 0x7ff) as i64 - 1023;
@@ -34,7 +34,7 @@ pub(crate) fn ln_fast(x: f64) -> f64 {
 
 /// Relative error bound of [`exp_fast`] (what its test holds it to).
 #[cfg_attr(not(test), allow(dead_code))]
-pub(crate) const EXP_FAST_ERROR: f64 = 1e-11;
+pub const EXP_FAST_ERROR: f64 = 1e-11;
 
 /// eˣ for x ≤ 709 to within a relative [`EXP_FAST_ERROR`]; 0 below −708 (where eˣ nears the
 /// smallest normal number), NaN for NaN. x = n·ln 2 + r with n an integer and |r| ≤ ½ ln 2
@@ -42,7 +42,7 @@ pub(crate) const EXP_FAST_ERROR: f64 = 1e-11;
 /// below 1e-11), and 2ⁿ from its bits. Straight-line code: the denoiser's weights of a row of
 /// pixels run side by side in SIMD lanes, where a call into libm runs one at a time.
 #[inline(always)]
-pub(crate) fn exp_fast(x: f64) -> f64 {
+pub fn exp_fast(x: f64) -> f64 {
     // 1.5·2⁵²: adding it and taking it away rounds to the nearest integer (|v| < 2⁵¹).
     const SHIFTER: f64 = 6_755_399_441_055_744.0;
     // fdlibm's split of ln 2: the high part has 11 trailing zero bits, so n·LN2_HI is exact.
@@ -78,7 +78,7 @@ pub(crate) fn exp_fast(x: f64) -> f64 {
 }
 
 /// Absolute error bound of [`atan2_fast`] and so of [`asin_fast`].
-pub(crate) const ATAN_FAST_ERROR: f64 = 2e-11;
+pub const ATAN_FAST_ERROR: f64 = 2e-11;
 
 /// tan(π/8) = √2 − 1: above it, the arc tangent's argument is reduced through π/4.
 const TAN_PI_8: f64 = std::f64::consts::SQRT_2 - 1.0;
@@ -89,7 +89,7 @@ const TAN_PI_8: f64 = std::f64::consts::SQRT_2 - 1.0;
 /// polynomial P fitted to atan z / z at Chebyshev nodes (least squares on the absolute error;
 /// it stays within 5e-12). One division, no branch.
 #[inline(always)]
-pub(crate) fn atan2_fast(y: f64, x: f64) -> f64 {
+pub fn atan2_fast(y: f64, x: f64) -> f64 {
     use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
     const P: [f64; 7] = [
         0.999_999_999_885_366_4,
@@ -124,14 +124,14 @@ pub(crate) fn atan2_fast(y: f64, x: f64) -> f64 {
 /// asin(x) for x in [−1, 1] to within [`ATAN_FAST_ERROR`] (as atan2(x, √(1 − x²)), with
 /// 1 − x² = (1 − x)(1 + x) to keep the digits near ±1).
 #[inline(always)]
-pub(crate) fn asin_fast(x: f64) -> f64 {
+pub fn asin_fast(x: f64) -> f64 {
     atan2_fast(x, ((1.0 - x) * (1.0 + x)).max(0.0).sqrt())
 }
 
 /// asinh(x) = sign(x)·ln(|x| + √(x² + 1)) to within [`LN_FAST_ERROR`] in absolute terms (its
 /// relative error near 0 does not matter for bounds, which are widened by that much).
 #[inline(always)]
-pub(crate) fn asinh_fast(x: f64) -> f64 {
+pub fn asinh_fast(x: f64) -> f64 {
     let a = x.abs();
     ln_fast(a + (a * a + 1.0).sqrt()).copysign(x)
 }

@@ -35,7 +35,7 @@ pub const DEFAULT_CREASE_DEGREES: f64 = 60.0;
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::shading_normal::VertexNormals;
+/// use orbifold_trace::shading_normal::VertexNormals;
 /// use glam::DVec3;
 /// let e2 = Space::new(Geometry::Euclidean);
 /// let p = |x: f64, y: f64| e2.exp(DVec3::Z, DVec3::new(x, y, 0.0));

@@ -31,8 +31,8 @@ use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::space::ModelGeodesic;
 use orbifold::{Geometry, Layout, LayoutOptions, Order, Shape, Signature};
-use orbifold_render::geodesic::Ray;
-use orbifold_render::tracer::{PathEnd, SurfaceId, Tracer};
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::tracer::{PathEnd, SurfaceId, Tracer};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 

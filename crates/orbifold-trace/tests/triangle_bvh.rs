@@ -24,10 +24,10 @@ use num_complex::Complex64;
 use orbifold::Geometry;
 use orbifold::embed::{Placement, embed, place};
 use orbifold::space::Space;
-use orbifold_render::bvh::Bvh;
-use orbifold_render::geodesic::Ray;
-use orbifold_render::instance::{Instance, Instances};
-use orbifold_render::triangle::Triangle;
+use orbifold_trace::bvh::Bvh;
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::instance::{Instance, Instances};
+use orbifold_trace::triangle::Triangle;
 use proptest::prelude::*;
 
 const GEOMETRIES: [Geometry; 3] = [

@@ -19,7 +19,7 @@ use crate::triangle::TriangleHit;
 /// ```
 /// use std::sync::Arc;
 /// use orbifold::{Geometry, space::Space, embed::Placement};
-/// use orbifold_render::{bvh::Bvh, geodesic::Ray, instance::Instance};
+/// use orbifold_trace::{bvh::Bvh, geodesic::Ray, instance::Instance};
 /// use glam::DVec3;
 /// use num_complex::Complex64;
 /// let h2 = Space::new(Geometry::Hyperbolic);
@@ -131,7 +131,7 @@ impl Instance {
 /// ```
 /// use std::sync::Arc;
 /// use orbifold::{Geometry, space::Space, isometry::Isometry};
-/// use orbifold_render::{bvh::Bvh, geodesic::Ray, instance::{Instance, Instances}};
+/// use orbifold_trace::{bvh::Bvh, geodesic::Ray, instance::{Instance, Instances}};
 /// use glam::DVec3;
 /// use num_complex::Complex64;
 /// let e2 = Space::new(Geometry::Euclidean);

@@ -4,8 +4,8 @@
 use num_complex::Complex64;
 use orbifold::room::{RoomMesher, RoomOptions};
 use orbifold::{Geometry, Layout, LayoutOptions, Order, Shape, Signature};
-use orbifold_render::geodesic::Ray;
-use orbifold_render::room::{AnalyticRoom, MirrorRect, RoomSurface};
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::room::{AnalyticRoom, MirrorRect, RoomSurface};
 use proptest::prelude::*;
 
 fn random_signature() -> impl Strategy<Value = Signature> {

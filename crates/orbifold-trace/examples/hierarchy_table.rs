@@ -20,10 +20,10 @@ use std::time::Instant;
 
 use orbifold::space::Space;
 use orbifold::{Geometry, Layout, LayoutOptions};
-use orbifold_render::bvh::Bvh;
-use orbifold_render::camera::Camera;
-use orbifold_render::room::AnalyticRoom;
 use orbifold_scene::Scene;
+use orbifold_trace::bvh::Bvh;
+use orbifold_trace::camera::Camera;
+use orbifold_trace::room::AnalyticRoom;
 
 struct Measured {
     depth: usize,

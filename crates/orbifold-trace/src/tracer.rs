@@ -112,8 +112,8 @@ pub struct TracedPath {
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
-/// use orbifold_render::geodesic::Ray;
-/// use orbifold_render::tracer::{PathEnd, Tracer};
+/// use orbifold_trace::geodesic::Ray;
+/// use orbifold_trace::tracer::{PathEnd, Tracer};
 /// use num_complex::Complex64;
 /// let layout = Layout::new(&"*2222".parse()?, &LayoutOptions::default())?;
 /// let tracer = Tracer::mirror_room(layout, 1.0)?;

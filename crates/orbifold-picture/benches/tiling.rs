@@ -3,7 +3,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use orbifold::layout::{Layout, LayoutOptions};
-use orbifold_render::tiling::{View, render};
+use orbifold_picture::tiling::{View, render};
 
 fn tilings(c: &mut Criterion) {
     let mut group = c.benchmark_group("tiling");

@@ -73,13 +73,13 @@ use arrayvec::ArrayVec;
 use glam::DVec3;
 use orbifold::space::Space;
 
-use crate::cpu::with_avx2;
 use crate::fastmath::{ATAN_FAST_ERROR, LN_FAST_ERROR, atan2_fast, ln_fast};
 use crate::geodesic::Ray;
 use crate::shading_normal::VertexNormals;
 /// A hit on a mesh's triangle (defined in [`crate::triangle`]).
 pub use crate::triangle::TriangleHit;
 use crate::triangle::{PreparedTriangle, Triangle};
+use crate::with_avx2;
 
 /// Most triangles in a leaf.
 const LEAF_SIZE: usize = 4;
@@ -210,8 +210,8 @@ pub(crate) struct Bound {
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::bvh::Bvh;
-/// use orbifold_render::geodesic::Ray;
+/// use orbifold_trace::bvh::Bvh;
+/// use orbifold_trace::geodesic::Ray;
 /// use glam::DVec3;
 /// let s2 = Space::new(Geometry::Spherical);
 /// let p = |x: f64, y: f64| s2.exp(DVec3::Z, DVec3::new(x, y, 0.0));
@@ -2034,7 +2034,7 @@ impl Bvh {
     /// ```
     /// use glam::DVec3;
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_render::bvh::Bvh;
+    /// use orbifold_trace::bvh::Bvh;
     /// let flat = Space::new(Geometry::Euclidean);
     /// let points = [DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.0, 1.0, 1.0)];
     /// let bvh = Bvh::build(flat, &points, &[0.0; 3], &[[0, 1, 2]]);

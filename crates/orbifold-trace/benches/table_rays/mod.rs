@@ -9,9 +9,9 @@ use glam::DVec3;
 use num_complex::Complex64;
 use orbifold::embed::{centre_of_mass, embed};
 use orbifold::space::Space;
-use orbifold_render::geodesic::Ray;
 use orbifold_scene::mesh::TriangleMesh;
 use orbifold_scene::mesh::import::load_mesh;
+use orbifold_trace::geodesic::Ray;
 
 /// Locations around the object.
 pub const LOCATIONS: usize = 146;
