@@ -38,10 +38,11 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::film::{Film, Splat, luminance};
+use crate::film::{Film, Splat};
 use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
-use crate::light::Rgb;
+use crate::lights::Rgb;
+use orbifold_scene::color::luminance;
 use orbifold_trace::fastmath::{exp_fast, ln_fast};
 
 /// The per-pixel means of what camera paths saw first, and the parts of their radiance that the

@@ -27,18 +27,9 @@ use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 use rayon::prelude::*;
 
-use crate::filter::PixelFilter;
+use orbifold_scene::color::luminance;
 
-/// The relative luminance of linear Rec. 709 / sRGB primaries: 0.2126 R + 0.7152 G + 0.0722 B.
-///
-/// ```
-/// use orbifold_render::film::luminance;
-///
-/// assert!((luminance([1.0, 1.0, 1.0]) - 1.0).abs() < 1e-12);
-/// ```
-pub fn luminance(rgb: [f64; 3]) -> f64 {
-    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-}
+use crate::filter::PixelFilter;
 
 /// The offset in the denominator of [`Film::relative_noise`], so that black pixels do not
 /// dominate the mean.
@@ -840,15 +831,6 @@ fn aces_narkowicz(x: f64) -> f64 {
     ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
 }
 
-/// The sRGB OETF (IEC 61966-2-1) from linear [0, 1] to encoded [0, 1].
-fn srgb_oetf(v: f64) -> f64 {
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 /// The tone curve of [`tone_map`] for one channel, before rounding: linear radiance `x` at
 /// `exposure` stops to the encoded display value in [0, 1].
 ///
@@ -863,7 +845,7 @@ pub fn tone_curve(x: f64, exposure: f64) -> f64 {
     if x.is_infinite() {
         1.0
     } else {
-        srgb_oetf(aces_narkowicz(x))
+        orbifold_scene::color::srgb_encode(aces_narkowicz(x))
     }
 }
 

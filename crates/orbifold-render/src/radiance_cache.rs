@@ -61,7 +61,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 use glam::{DVec3, DVec4};
 use rayon::prelude::*;
 
-use crate::light::Rgb;
+use crate::lights::Rgb;
 
 /// Side of the finest cells, in ambient units (about intrinsic units near the room's centre).
 pub const FINEST_CELL: f64 = 1.0 / 128.0;

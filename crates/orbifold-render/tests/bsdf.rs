@@ -6,7 +6,7 @@
 use std::f64::consts::PI;
 
 use glam::DVec3;
-use orbifold_render::bsdf::{Bsdf, Rgb, fresnel_conductor, fresnel_dielectric, marble};
+use orbifold_render::materials::bsdf::{Bsdf, Rgb, fresnel_conductor, fresnel_dielectric, marble};
 use proptest::prelude::*;
 
 /// A small deterministic generator (SplitMix64), independent of the renderer's sampler.

@@ -30,9 +30,7 @@ fn scene(signature: &str, fov: f64, pitch: f64) -> Scene {
     scene
 }
 
-fn luminance(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
+use orbifold_render::orbifold_scene::color::luminance;
 
 /// Per pixel of a `size`×`size` image: the mean of `n` samples and their variance, with or
 /// without the footprint (the same sub-pixel positions and random numbers both ways).

@@ -2,7 +2,7 @@
 //! the light before it (so the renderer leaves the light's own mesh out of that ray's tests).
 
 use num_complex::Complex64;
-use orbifold_render::light::{Emitter, Light, TangentFrame, aim_at, connect, travel_direction};
+use orbifold_render::lights::{Emitter, Light, TangentFrame, aim_at, connect, travel_direction};
 use orbifold_scene::{LightKind, Scene};
 use proptest::prelude::*;
 

@@ -8,7 +8,7 @@ use orbifold::Geometry;
 use orbifold::space::Space;
 use orbifold_render::film::Film;
 use orbifold_render::integrator::Settings;
-use orbifold_render::light::{TangentFrame, connect, spread, travel_direction};
+use orbifold_render::lights::{TangentFrame, connect, spread, travel_direction};
 use orbifold_render::render::{RenderOptions, render_scene};
 use orbifold_scene::{Material, Mirror, MirrorDefault, Object, Scene, Wall};
 use orbifold_trace::tracer::{SurfaceId, Tracer};
@@ -290,7 +290,7 @@ fn sphere_lights_sample_every_triangle_that_faces_the_point() {
     // Light sampling keeps only the triangles of a sphere light that can face the lit point:
     // each one that does face it (its normal against the geodesic to the point, measured
     // exactly) must keep a positive density, and the kept triangles' probabilities add up to 1.
-    use orbifold_render::light::{Emitter, Light};
+    use orbifold_render::lights::{Emitter, Light};
     use orbifold_scene::LightKind;
     for signature in ["*235", "*333", "*2223"] {
         let mut scene = Scene::default();
@@ -334,7 +334,7 @@ fn sphere_lights_sample_every_triangle_that_faces_the_point() {
                 let pdf = lights[0].pdf_area(space, t, barycentric, Some((x, h)));
                 if corner == 0 {
                     let triangle = instance.bvh.triangle(t);
-                    let jacobian = orbifold_render::light::area_jacobian(
+                    let jacobian = orbifold_render::lights::area_jacobian(
                         space,
                         &triangle.points,
                         &triangle.heights,

@@ -9,7 +9,7 @@ use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
 use orbifold_render::film::Film;
 use orbifold_render::filter::PixelFilter;
 use orbifold_render::integrator::Settings;
-use orbifold_render::light::{TangentFrame, spread};
+use orbifold_render::lights::{TangentFrame, spread};
 use orbifold_render::render::{RenderOptions, render_scene};
 use orbifold_scene::{LightKind, Material, Mirror, Scene, Wall};
 
@@ -105,9 +105,7 @@ fn mean_over_renders(values: &[f64]) -> (f64, f64) {
     (mean, (variance / n).sqrt())
 }
 
-fn luminance(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
+use orbifold_render::orbifold_scene::color::luminance;
 
 /// Mean luminance of the image and its standard error (pixels are independent).
 fn mean_and_error(film: &Film) -> (f64, f64) {

@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// A linear RGB colour, each channel in [0, 1].
-pub type Color = [f64; 3];
+/// A linear RGB colour of the scene, each channel in [0, 1].
+pub type Color = crate::color::Rgb;
 
 /// A mirror room and what is in it. Every field has a default, so a file needs only what it
 /// changes; [`Scene::default`] is the seed's default room `*22222` with a figure and a light.

@@ -53,7 +53,7 @@ impl TextureImage {
             return None;
         };
         let half = CHECKER_PIXELS / 2;
-        let encode = colors.map(|c| c.map(linear_to_srgb));
+        let encode = colors.map(|c| c.map(crate::color::srgb8_from_linear));
         let image = image::RgbImage::from_fn(CHECKER_PIXELS, CHECKER_PIXELS, |x, y| {
             // Row 0 is the top: the bottom half is v ∈ [0, ½).
             let (i, j) = (x / half, 1 - y / half);
@@ -68,16 +68,6 @@ impl TextureImage {
             .ok()?;
         Some(bytes)
     }
-}
-
-fn linear_to_srgb(c: f64) -> u8 {
-    let c = c.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
 }
 
 /// The texture coordinates p of the renderer at an ambient point and height of a part, before

@@ -17,7 +17,7 @@ use orbifold::space::Space;
 use orbifold::{Geometry, Layout, LayoutOptions};
 use orbifold_scene::Camera as CameraSettings;
 use orbifold_scene::mesh::procedural::builtin;
-use orbifold_trace::bvh::Bvh;
+use orbifold_trace::accel::Bvh;
 use orbifold_trace::camera::Camera;
 use orbifold_trace::tracer::Tracer;
 

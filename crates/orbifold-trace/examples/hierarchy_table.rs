@@ -21,7 +21,7 @@ use std::time::Instant;
 use orbifold::space::Space;
 use orbifold::{Geometry, Layout, LayoutOptions};
 use orbifold_scene::Scene;
-use orbifold_trace::bvh::Bvh;
+use orbifold_trace::accel::Bvh;
 use orbifold_trace::camera::Camera;
 use orbifold_trace::room::AnalyticRoom;
 

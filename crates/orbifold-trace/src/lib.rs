@@ -6,7 +6,7 @@
 //!   and reflection in a wall.
 //! - [`triangle`], [`shading_normal`]: intrinsically flat triangles of curved meshes and their
 //!   smooth shading normals.
-//! - [`bvh`]: the bounding volume hierarchy for curved rays; [`instance`]: meshes placed in
+//! - [`accel`]: the bounding volume hierarchy for curved rays, and instances: meshes placed in
 //!   the room by isometries, sharing one BVH.
 //! - [`tracer`]: follows a ray through the mirrors to the first surface it meets.
 //! - [`camera`], [`footprint`]: pinhole and panorama cameras, and the footprint a ray carries.
@@ -17,14 +17,13 @@
 //! The light transport built on it is `orbifold-render`; see ARCHITECTURE.md for how the crates
 //! fit together.
 
+pub mod accel;
 pub mod aov;
-pub mod bvh;
 pub mod camera;
 pub mod cpu;
 pub mod fastmath;
 pub mod footprint;
 pub mod geodesic;
-pub mod instance;
 pub mod room;
 pub mod shading_normal;
 pub mod tracer;

@@ -15,9 +15,9 @@ use orbifold::embed::{Placement, centre_of_mass, embed};
 use orbifold::space::Space;
 use orbifold_scene::{Color, Scene};
 
-use crate::bvh::Bvh;
+use crate::accel::Bvh;
+use crate::accel::{Instance, Instances};
 use crate::geodesic::Ray;
-use crate::instance::{Instance, Instances};
 use crate::room::{AnalyticRoom, RoomSurface};
 
 /// What a ray met.

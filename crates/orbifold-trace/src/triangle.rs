@@ -42,7 +42,7 @@ use std::f64::consts::{PI, TAU};
 use glam::DVec3;
 use orbifold::space::Space;
 
-use crate::bvh::{Disc, RayFrame};
+use crate::accel::{Disc, RayFrame};
 use crate::fastmath::{LN_FAST_ERROR, atan2_fast, ln_fast};
 use crate::geodesic::Ray;
 
@@ -100,7 +100,7 @@ pub struct Crossing {
     pub barycentric: [f64; 3],
 }
 
-/// A ray's hit on a triangle of a mesh (a [`crate::bvh::Bvh`]).
+/// A ray's hit on a triangle of a mesh (a [`crate::accel::Bvh`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {
     /// Arc length along the ray.
@@ -216,7 +216,7 @@ pub struct PreparedTriangle {
 }
 
 /// How far beyond its edges a triangle's footprint is searched for hits, as the bounding discs
-/// are widened (`crate::bvh::disc_around`): far above the slack that [`PreparedTriangle`]'s
+/// are widened (`crate::accel::disc_around`): far above the slack that [`PreparedTriangle`]'s
 /// inside test allows.
 const FOOTPRINT_SLACK: f64 = 1e-9;
 
@@ -238,7 +238,7 @@ impl PreparedTriangle {
         if area2.is_nan() || area2 <= 1e-24 * g11 * g22 {
             return None;
         }
-        let (centre, reach) = crate::bvh::disc_around(space, &points)?;
+        let (centre, reach) = crate::accel::disc_around(space, &points)?;
         let scale = points.iter().map(|p| p.length()).fold(0.0, f64::max);
         // det M = p₀·(p₁ × p₂), far from its rounding error, orients the footprint; its edge
         // forms are turned so that the footprint is where all three are ≥ 0.

@@ -24,9 +24,9 @@ use num_complex::Complex64;
 use orbifold::Geometry;
 use orbifold::embed::{Placement, embed, place};
 use orbifold::space::Space;
-use orbifold_trace::bvh::Bvh;
+use orbifold_trace::accel::Bvh;
+use orbifold_trace::accel::{Instance, Instances};
 use orbifold_trace::geodesic::Ray;
-use orbifold_trace::instance::{Instance, Instances};
 use orbifold_trace::triangle::Triangle;
 use proptest::prelude::*;
 

@@ -40,20 +40,12 @@ use glam::DVec3;
 
 use crate::sampler::cosine_hemisphere;
 
-/// A linear RGB triple (reflectance, radiance or throughput, depending on use).
-///
-/// ```
-/// use orbifold_render::bsdf::Rgb;
-///
-/// let white: Rgb = [1.0; 3];
-/// assert_eq!(white[1], 1.0);
-/// ```
-pub type Rgb = [f64; 3];
+pub use orbifold_scene::color::Rgb;
 
 /// Microfacet roughness α below which a lobe is treated as a perfect (delta) mirror.
 ///
 /// ```
-/// use orbifold_render::bsdf::{Bsdf, DELTA_ROUGHNESS};
+/// use orbifold_render::materials::bsdf::{Bsdf, DELTA_ROUGHNESS};
 ///
 /// assert!(Bsdf::gold(0.5 * DELTA_ROUGHNESS).is_delta());
 /// assert!(!Bsdf::gold(2.0 * DELTA_ROUGHNESS).is_delta());
@@ -63,7 +55,7 @@ pub const DELTA_ROUGHNESS: f64 = 1e-3;
 /// The index of refraction used by [`Bsdf::plastic`] for the dielectric coat.
 ///
 /// ```
-/// use orbifold_render::bsdf::{Bsdf, PLASTIC_ETA};
+/// use orbifold_render::materials::bsdf::{Bsdf, PLASTIC_ETA};
 ///
 /// let Bsdf::Plastic { eta, .. } = Bsdf::plastic([0.5; 3], 0.2) else { unreachable!() };
 /// assert_eq!(eta, PLASTIC_ETA);
@@ -74,7 +66,7 @@ pub const PLASTIC_ETA: f64 = 1.5;
 ///
 /// ```
 /// use glam::DVec3;
-/// use orbifold_render::bsdf::Bsdf;
+/// use orbifold_render::materials::bsdf::Bsdf;
 ///
 /// let matte = Bsdf::Diffuse { albedo: [0.8, 0.5, 0.2] };
 /// let (wo, wi) = (DVec3::Z, DVec3::new(0.6, 0.0, 0.8));
@@ -127,7 +119,7 @@ pub enum Bsdf {
 ///
 /// ```
 /// use glam::DVec3;
-/// use orbifold_render::bsdf::Bsdf;
+/// use orbifold_render::materials::bsdf::Bsdf;
 ///
 /// let s = Bsdf::Diffuse { albedo: [0.5; 3] }.sample(DVec3::Z, (0.3, 0.7), 0.5).unwrap();
 /// assert!(s.wi.z > 0.0 && !s.delta);
@@ -153,7 +145,7 @@ impl Bsdf {
     /// A Lambertian material.
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert_eq!(Bsdf::diffuse([0.5; 3]), Bsdf::Diffuse { albedo: [0.5; 3] });
     /// ```
@@ -164,7 +156,7 @@ impl Bsdf {
     /// A clear smooth dielectric of relative index `eta` (inside over outside).
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert!(Bsdf::dielectric(1.5).is_delta());
     /// ```
@@ -178,7 +170,7 @@ impl Bsdf {
     /// A conductor with complex index `eta` + i`k` and GGX roughness α.
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// let steelish = Bsdf::conductor([2.9, 2.9, 2.6], [3.0, 2.9, 2.8], 0.2);
     /// assert!(!steelish.is_delta());
@@ -191,7 +183,7 @@ impl Bsdf {
     /// [`PLASTIC_ETA`] (1.5).
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// let red = Bsdf::plastic([0.8, 0.1, 0.1], 0.1);
     /// assert!(red.has_diffuse() && !red.is_delta());
@@ -212,7 +204,7 @@ impl Bsdf {
     /// linear sRGB (Tungsten's `ComplexIorData`).
     ///
     /// ```
-    /// use orbifold_render::bsdf::{Bsdf, fresnel_conductor};
+    /// use orbifold_render::materials::bsdf::{Bsdf, fresnel_conductor};
     ///
     /// let Bsdf::Conductor { eta, k, .. } = Bsdf::gold(0.0) else { unreachable!() };
     /// let f0 = fresnel_conductor(1.0, eta, k);
@@ -230,7 +222,7 @@ impl Bsdf {
     /// linear sRGB (Tungsten's `ComplexIorData`).
     ///
     /// ```
-    /// use orbifold_render::bsdf::{Bsdf, fresnel_conductor};
+    /// use orbifold_render::materials::bsdf::{Bsdf, fresnel_conductor};
     ///
     /// let Bsdf::Conductor { eta, k, .. } = Bsdf::silver(0.0) else { unreachable!() };
     /// assert!(fresnel_conductor(1.0, eta, k).iter().all(|&r| r > 0.9));
@@ -247,7 +239,7 @@ impl Bsdf {
     /// linear sRGB (Tungsten's `ComplexIorData`).
     ///
     /// ```
-    /// use orbifold_render::bsdf::{Bsdf, fresnel_conductor};
+    /// use orbifold_render::materials::bsdf::{Bsdf, fresnel_conductor};
     ///
     /// let Bsdf::Conductor { eta, k, .. } = Bsdf::copper(0.0) else { unreachable!() };
     /// let f0 = fresnel_conductor(1.0, eta, k);
@@ -265,7 +257,7 @@ impl Bsdf {
     /// linear sRGB (Tungsten's `ComplexIorData`).
     ///
     /// ```
-    /// use orbifold_render::bsdf::{Bsdf, fresnel_conductor};
+    /// use orbifold_render::materials::bsdf::{Bsdf, fresnel_conductor};
     ///
     /// let Bsdf::Conductor { eta, k, .. } = Bsdf::aluminium(0.0) else { unreachable!() };
     /// assert!(fresnel_conductor(1.0, eta, k).iter().all(|&r| r > 0.85));
@@ -282,7 +274,7 @@ impl Bsdf {
     /// are identically zero and next-event estimation is pointless).
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert!(Bsdf::dielectric(1.5).is_delta());
     /// assert!(Bsdf::silver(0.0).is_delta());
@@ -301,7 +293,7 @@ impl Bsdf {
     /// next-event estimation, and that denoisers treat as "diffuse").
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert!(Bsdf::diffuse([0.5; 3]).has_diffuse());
     /// assert!(Bsdf::plastic([0.5; 3], 0.3).has_diffuse());
@@ -315,7 +307,7 @@ impl Bsdf {
     /// opposite sign to `wo.z`).
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert!(Bsdf::dielectric(1.33).is_transmissive());
     /// assert!(!Bsdf::diffuse([1.0; 3]).is_transmissive());
@@ -328,7 +320,7 @@ impl Bsdf {
     /// the conductor's normal-incidence Fresnel reflectance, or the dielectric's tint.
     ///
     /// ```
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// assert_eq!(Bsdf::diffuse([0.2, 0.4, 0.6]).albedo(), [0.2, 0.4, 0.6]);
     /// assert!(Bsdf::silver(0.1).albedo()[0] > 0.9);
@@ -361,7 +353,7 @@ impl Bsdf {
     ///
     /// ```
     /// use glam::DVec3;
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// let metal = Bsdf::gold(0.3);
     /// let (wo, wi) = (DVec3::new(0.6, 0.0, 0.8), DVec3::new(-0.6, 0.0, 0.8));
@@ -424,7 +416,7 @@ impl Bsdf {
     ///
     /// ```
     /// use glam::DVec3;
-    /// use orbifold_render::bsdf::Bsdf;
+    /// use orbifold_render::materials::bsdf::Bsdf;
     ///
     /// let wi = DVec3::new(0.0, 0.6, 0.8);
     /// let p = Bsdf::diffuse([1.0; 3]).pdf(DVec3::Z, wi);
@@ -489,7 +481,7 @@ impl Bsdf {
     ///
     /// ```
     /// use glam::DVec3;
-    /// use orbifold_render::bsdf::{Bsdf, fresnel_dielectric};
+    /// use orbifold_render::materials::bsdf::{Bsdf, fresnel_dielectric};
     ///
     /// let glass = Bsdf::dielectric(1.5);
     /// let wo = DVec3::new(0.6, 0.0, 0.8);
@@ -637,7 +629,7 @@ fn sample_dielectric(wo: DVec3, eta: f64, tint: Rgb, uc: f64) -> Option<BsdfSamp
 /// reflection and at grazing incidence. `eta` not positive and finite is read as 1.
 ///
 /// ```
-/// use orbifold_render::bsdf::fresnel_dielectric;
+/// use orbifold_render::materials::bsdf::fresnel_dielectric;
 ///
 /// let r0 = fresnel_dielectric(1.0, 1.5);
 /// assert!((r0 - 0.04).abs() < 1e-12); // ((η − 1)/(η + 1))²
@@ -683,7 +675,7 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
 /// coincides with [`fresnel_dielectric`].
 ///
 /// ```
-/// use orbifold_render::bsdf::fresnel_conductor;
+/// use orbifold_render::materials::bsdf::fresnel_conductor;
 ///
 /// let (eta, k) = ([0.2, 0.9, 1.1], [3.9, 2.5, 2.1]);
 /// let r = fresnel_conductor(1.0, eta, k);
@@ -936,7 +928,7 @@ fn sanitize(c: Rgb) -> Rgb {
 ///
 /// ```
 /// use glam::DVec3;
-/// use orbifold_render::bsdf::marble;
+/// use orbifold_render::materials::bsdf::marble;
 ///
 /// let (base, vein) = ([0.9, 0.9, 0.85], [0.2, 0.25, 0.3]);
 /// let c = marble(DVec3::new(0.3, -1.2, 4.0), base, vein, 2.0);

@@ -210,7 +210,7 @@ pub(crate) struct Bound {
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_trace::bvh::Bvh;
+/// use orbifold_trace::accel::Bvh;
 /// use orbifold_trace::geodesic::Ray;
 /// use glam::DVec3;
 /// let s2 = Space::new(Geometry::Spherical);
@@ -2034,7 +2034,7 @@ impl Bvh {
     /// ```
     /// use glam::DVec3;
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_trace::bvh::Bvh;
+    /// use orbifold_trace::accel::Bvh;
     /// let flat = Space::new(Geometry::Euclidean);
     /// let points = [DVec3::new(0.0, 0.0, 1.0), DVec3::new(1.0, 0.0, 1.0), DVec3::new(0.0, 1.0, 1.0)];
     /// let bvh = Bvh::build(flat, &points, &[0.0; 3], &[[0, 1, 2]]);

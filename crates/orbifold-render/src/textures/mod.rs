@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use crate::light::Rgb;
+use crate::lights::Rgb;
 
 /// An image repeated with period 1 in (u, v); v runs up the image (row 0 is v = 1).
 #[derive(Clone, Debug)]

@@ -19,9 +19,9 @@ use orbifold::Geometry;
 use orbifold::embed::Placement;
 use orbifold::space::Space;
 
-use crate::light::{Emitter, Light, TangentFrame, mesh_emitter};
-use orbifold_trace::bvh::Bvh;
-use orbifold_trace::instance::{Instance, Instances};
+use crate::lights::{Emitter, Light, TangentFrame, mesh_emitter};
+use orbifold_trace::accel::Bvh;
+use orbifold_trace::accel::{Instance, Instances};
 use orbifold_trace::tracer::Tracer;
 
 /// The flat plane of straight rays.
@@ -59,7 +59,7 @@ fn flatten_instance(curved: Space, instance: &Instance) -> Instance {
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
-/// use orbifold_render::flat::flatten_tracer;
+/// use orbifold_render::straight_rays::flatten_tracer;
 /// use orbifold_trace::tracer::Tracer;
 /// let layout = Layout::new(&"*2223".parse()?, &LayoutOptions::default())?;
 /// let tracer = Tracer::mirror_room(layout, 1.0)?;

@@ -19,15 +19,15 @@ use orbifold::space::Space;
 use orbifold_scene::geometry::representative;
 use orbifold_scene::{Coordinates, Material, MetalName, Scene};
 
-use crate::bsdf::{Bsdf, marble};
-use crate::flat::{flatten_light, flatten_tracer};
-use crate::light::{
+use crate::lights::{
     AimedLight, Connection, Emitter, ImageSet, Light, LightPoint, Rgb, TangentFrame, aim_at,
     connect, reflection_matrix, spread, travel_direction, turned,
 };
+use crate::materials::bsdf::{Bsdf, marble};
 use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
 use crate::sampler::{Distribution1d, Frame, Sampler, power_heuristic};
-use crate::texture::ImageTexture;
+use crate::straight_rays::{flatten_light, flatten_tracer};
+use crate::textures::ImageTexture;
 use orbifold_trace::fastmath::{asin_fast, ln_fast};
 use orbifold_trace::footprint::{Footprint, Glimpse, Sphere, sphere_coverage};
 use orbifold_trace::geodesic::Ray;
@@ -64,7 +64,7 @@ pub struct Settings {
     /// shows the room's shape without any lights.
     pub glow: Rgb,
     /// Light as if space were flat: the room's model picture rendered with straight rays (see
-    /// [`crate::flat`]; the seed's Fig. 8.1a), for teaching and comparison.
+    /// [`crate::straight_rays`]; the seed's Fig. 8.1a), for teaching and comparison.
     pub straight_rays: bool,
     /// Carry each camera ray's pixel footprint ([`orbifold_trace::footprint`]; on by default): the
     /// light's mirror images up to a few pixels wide count by the share of the pixel they
@@ -146,15 +146,6 @@ enum Texture {
     },
 }
 
-fn srgb_to_linear(c: u8) -> f64 {
-    let c = f64::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 impl Texture {
     fn new(material: &Material, base: Option<&std::path::Path>) -> Result<Texture, String> {
         Ok(match material {
@@ -180,7 +171,7 @@ impl Texture {
                 let (width, height) = (image.width() as usize, image.height() as usize);
                 let pixels = image
                     .pixels()
-                    .map(|p| p.0.map(srgb_to_linear))
+                    .map(|p| p.0.map(orbifold_scene::color::linear_from_srgb8))
                     .collect::<Vec<_>>();
                 if width == 0 || height == 0 {
                     return Err(format!("texture {} has no pixels", file.display()));
@@ -424,7 +415,7 @@ impl Look {
 }
 
 /// One choice of the light sampler: a light, an image of the room, and (on the sphere) which
-/// way round and how many times ([`crate::light::turned`]).
+/// way round and how many times ([`crate::lights::turned`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Entry {
     light: usize,
@@ -871,9 +862,7 @@ impl Sides {
     }
 }
 
-fn luminance(c: Rgb) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
+use orbifold_scene::color::luminance;
 
 fn mul(a: Rgb, b: Rgb) -> Rgb {
     [a[0] * b[0], a[1] * b[1], a[2] * b[2]]

@@ -9,7 +9,7 @@ use orbifold::embed::Placement;
 use orbifold::isometry::Isometry;
 use orbifold::space::Space;
 
-use crate::bvh::{Bound, Bvh, RayFrame};
+use crate::accel::{Bound, Bvh, RayFrame};
 use crate::geodesic::Ray;
 use crate::triangle::TriangleHit;
 
@@ -19,7 +19,7 @@ use crate::triangle::TriangleHit;
 /// ```
 /// use std::sync::Arc;
 /// use orbifold::{Geometry, space::Space, embed::Placement};
-/// use orbifold_trace::{bvh::Bvh, geodesic::Ray, instance::Instance};
+/// use orbifold_trace::{accel::{Bvh, Instance}, geodesic::Ray};
 /// use glam::DVec3;
 /// use num_complex::Complex64;
 /// let h2 = Space::new(Geometry::Hyperbolic);
@@ -104,7 +104,7 @@ impl Instance {
     }
 
     /// The shading normal at a hit (smooth where the mesh is shaded smooth), in the world
-    /// tangent space at the hit (see [`crate::bvh::Bvh::shading_normal`]).
+    /// tangent space at the hit (see [`crate::accel::Bvh::shading_normal`]).
     pub fn shading_normal(&self, space: Space, hit: &TriangleHit) -> Option<(DVec3, f64)> {
         let (n, up) = self.bvh.shading_normal(space, hit)?;
         Some((self.to_world * n, up))
@@ -131,7 +131,7 @@ impl Instance {
 /// ```
 /// use std::sync::Arc;
 /// use orbifold::{Geometry, space::Space, isometry::Isometry};
-/// use orbifold_trace::{bvh::Bvh, geodesic::Ray, instance::{Instance, Instances}};
+/// use orbifold_trace::{accel::{Bvh, Instance, Instances}, geodesic::Ray};
 /// use glam::DVec3;
 /// use num_complex::Complex64;
 /// let e2 = Space::new(Geometry::Euclidean);

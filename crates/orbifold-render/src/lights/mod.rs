@@ -31,14 +31,13 @@ use orbifold::space::Space;
 use orbifold_scene::{LightKind, Scene};
 
 use crate::sampler::Distribution1d;
-use orbifold_trace::bvh::Bvh;
+use orbifold_trace::accel::Bvh;
+use orbifold_trace::accel::Instance;
 use orbifold_trace::geodesic::Ray;
-use orbifold_trace::instance::Instance;
 use orbifold_trace::room::AnalyticRoom;
 use orbifold_trace::with_avx512;
 
-/// Linear RGB.
-pub type Rgb = [f64; 3];
+pub use orbifold_scene::color::Rgb;
 
 /// An orthonormal frame of the tangent space of the product space at a point: two unit
 /// horizontal ambient tangents and the vertical. Local coordinates are (e₁, e₂, up).
@@ -56,7 +55,7 @@ impl TangentFrame {
     ///
     /// ```
     /// use orbifold::{Geometry, space::Space};
-    /// use orbifold_render::light::TangentFrame;
+    /// use orbifold_render::lights::TangentFrame;
     /// use glam::DVec3;
     /// let h2 = Space::new(Geometry::Hyperbolic);
     /// let x = h2.exp(DVec3::Z, DVec3::new(0.3, -1.2, 0.0));
@@ -107,7 +106,7 @@ pub fn travel_direction(space: Space, frame: &TangentFrame, ray: &Ray, s: f64) -
 ///
 /// ```
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::light::spread;
+/// use orbifold_render::lights::spread;
 /// let h2 = Space::new(Geometry::Hyperbolic);
 /// // Vertical: like flat space; horizontal: the circumference density ℓ sinh ℓ.
 /// assert!((spread(h2, 2.0, 0.0) - 4.0).abs() < 1e-12);
@@ -142,7 +141,7 @@ pub struct Connection {
 /// in [πt, π(t + 1)], so `turns` = ⌊σ/π⌋ of a geodesic's own horizontal length.
 ///
 /// ```
-/// use orbifold_render::light::turned;
+/// use orbifold_render::lights::turned;
 /// use std::f64::consts::PI;
 /// assert_eq!(turned(1.0, 0), (1.0, false));
 /// assert_eq!(turned(1.0, 1), (2.0 * PI - 1.0, true));
@@ -238,7 +237,7 @@ impl Way {
 /// ```
 /// use glam::DVec3;
 /// use orbifold::{Geometry, space::Space};
-/// use orbifold_render::light::{TangentFrame, aim_at, connect, travel_direction};
+/// use orbifold_render::lights::{TangentFrame, aim_at, connect, travel_direction};
 /// let h2 = Space::new(Geometry::Hyperbolic);
 /// let x = h2.exp(DVec3::Z, DVec3::new(0.3, -0.2, 0.0));
 /// let y = h2.exp(DVec3::Z, DVec3::new(-0.5, 0.4, 0.0));
@@ -309,9 +308,7 @@ pub const IMAGE_CUTOFF: f64 = 1e-4;
 /// At most this many images.
 pub const MAX_IMAGES: usize = 4096;
 
-fn luminance(c: Rgb) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
+use orbifold_scene::color::luminance;
 
 impl ImageSet {
     /// The images of a room whose centre is `centre` (ambient), breadth first across walls that
@@ -1106,7 +1103,7 @@ impl Light {
     ///
     /// ```
     /// use num_complex::Complex64;
-    /// use orbifold_render::light::Light;
+    /// use orbifold_render::lights::Light;
     /// use orbifold_scene::{LightKind, Scene};
     ///
     /// let mut scene = Scene::default();

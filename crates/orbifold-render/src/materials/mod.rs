@@ -1,0 +1,3 @@
+//! Materials: how a surface scatters light ([`bsdf`]).
+
+pub mod bsdf;
