@@ -1,4 +1,4 @@
-//! Benchmark of the raster tiling renderer. Run with `cargo bench -p orbifold-render --bench tiling`.
+//! Benchmark of the raster tiling renderer. Run with `cargo bench -p orbifold-picture --bench tiling`.
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use criterion::{Criterion, criterion_group, criterion_main};

@@ -46,7 +46,7 @@ pub fn srgb_decode(encoded: f64) -> f64 {
 /// ```
 /// use orbifold_scene::color::srgb8_from_linear;
 /// assert_eq!(srgb8_from_linear(0.0), 0);
-/// assert_eq!(srgb8_from_linear(0.214_041), 128);
+/// assert_eq!(srgb8_from_linear(0.216), 128);
 /// assert_eq!(srgb8_from_linear(7.0), 255);
 /// ```
 #[inline]

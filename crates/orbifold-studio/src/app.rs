@@ -49,6 +49,8 @@ pub struct Studio {
     render: Option<RenderJob>,
     render_texture: Option<egui::TextureHandle>,
     render_size: (u32, u32),
+    /// Whether the render takes the 3D view's shape (its height follows from the width).
+    render_as_view: bool,
     render_samples: u32,
     tiling: Option<(u64, egui::TextureHandle)>,
     /// Set by the binary's `--screenshot`: frames left before the screenshot is taken.
@@ -77,6 +79,7 @@ impl Studio {
             render: None,
             render_texture: None,
             render_size: (480, 360),
+            render_as_view: true,
             render_samples: 32,
             tiling: None,
             screenshot: None,
@@ -326,7 +329,25 @@ impl Studio {
     fn render(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
             design::labelled_value(ui, "render width", &mut self.render_size.0, 16..=4096, 1.0);
-            design::labelled_value(ui, "render height", &mut self.render_size.1, 16..=4096, 1.0);
+            // The same framing as the 3D view: both cameras' field of view is vertical, so the
+            // picture shows what the view shows when it has the view's shape.
+            ui.checkbox(&mut self.render_as_view, "frame as the 3D view");
+            match self.view.drawn_size().filter(|_| self.render_as_view) {
+                Some([w, h]) => {
+                    let height = f64::from(self.render_size.0) * h as f64 / w.max(1) as f64;
+                    self.render_size.1 = (height.round() as u32).clamp(16, 4096);
+                    ui.label(format!("render height {}", self.render_size.1));
+                }
+                None => {
+                    design::labelled_value(
+                        ui,
+                        "render height",
+                        &mut self.render_size.1,
+                        16..=4096,
+                        1.0,
+                    );
+                }
+            }
             design::labelled_value(
                 ui,
                 "render samples",

@@ -1,23 +1,29 @@
-//! Rendering in the background: the photo-realistic renderer (`orbifold-render`) on the view's
-//! camera, one round (a sample for every pixel, or for the noisiest ones) at a time, so the
-//! picture refines while the studio stays responsive; it can be cancelled, and the result
-//! shown and saved.
+//! Rendering in the background: the photo-realistic renderer's one pipeline
+//! (`orbifold_render::render`, as `orbifold render` uses it) on the 3D view's camera, one round
+//! (a sample for every pixel, or for the noisiest ones) at a time, so the picture refines while
+//! the studio stays responsive. The picture shown is finished as the command line finishes a PNG:
+//! denoised and tone-mapped at the raw image's log-average exposure. It can be cancelled, and
+//! the result shown and saved.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
-use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{Progressive, RenderOptions};
+use orbifold_render::render::{Picture, Progressive, RenderOptions};
 use orbifold_scene::Scene;
 use orbifold_trace::camera::Camera;
+
+/// How often a running render's picture is finished (denoised) to be shown.
+const SHOW_EVERY: Duration = Duration::from_millis(500);
 
 /// What a running render shares with the studio.
 #[derive(Default)]
 struct Shared {
-    film: Option<Film>,
+    /// The picture so far, and its display form (RGBA8).
+    picture: Option<(Picture, Vec<u8>)>,
     passes: u32,
     error: Option<String>,
     done: bool,
@@ -90,26 +96,20 @@ impl RenderJob {
         self.cancel.store(true, Ordering::Relaxed);
     }
 
-    /// The picture so far, tone-mapped (RGBA8), if a pass has finished.
+    /// The picture so far, denoised and tone-mapped (RGBA8), if a round has finished.
     pub fn picture(&self) -> Option<(u32, u32, Vec<u8>)> {
         let shared = self.shared.lock().ok()?;
-        let film = shared.film.as_ref()?;
-        let exposure = film.auto_exposure();
-        let mut rgba = Vec::with_capacity((film.width() * film.height() * 4) as usize);
-        for y in 0..film.height() {
-            for x in 0..film.width() {
-                let [r, g, b] = orbifold_render::film::tone_map(film.pixel(x, y), exposure);
-                rgba.extend_from_slice(&[r, g, b, 255]);
-            }
-        }
-        Some((film.width(), film.height(), rgba))
+        let (picture, rgba) = shared.picture.as_ref()?;
+        let (width, height) = picture.size();
+        Some((width, height, rgba.clone()))
     }
 
-    /// Writes the picture so far (PNG, JPEG or EXR by the extension).
+    /// Writes the picture so far as shown (PNG or JPEG), or its HDR image (EXR), by the
+    /// extension.
     pub fn save(&self, path: &Path) -> Result<(), String> {
         let shared = self.shared.lock().map_err(|e| e.to_string())?;
-        let film = shared.film.as_ref().ok_or("nothing rendered yet")?;
-        film.write(path, film.auto_exposure())
+        let (picture, _) = shared.picture.as_ref().ok_or("nothing rendered yet")?;
+        picture.write(path)
     }
 }
 
@@ -142,17 +142,31 @@ fn run(
         Err(e) => return finish(Some(e)),
     };
     let camera = Camera::new(integrator.space(), camera);
-    // Rounds of the stratified, adaptive sampler; the picture is shared after each.
+    // The options of `orbifold render` for a PNG of this scene (seed 0, denoised), so that
+    // the studio's picture is the command line's.
     let options = RenderOptions {
         filter: scene.render.filter.into(),
+        denoised: true,
         ..RenderOptions::new(size.0, size.1, samples, 0)
     };
+    let start = Instant::now();
     let mut progressive = Progressive::new(&integrator, &camera, &options);
+    let mut shown: Option<Instant> = None;
     while progressive.paths() < progressive.budget() && !cancel.load(Ordering::Relaxed) {
         progressive.round();
+        let last = progressive.paths() >= progressive.budget() || cancel.load(Ordering::Relaxed);
         if let Ok(mut s) = shared.lock() {
-            s.film = Some(progressive.film().clone());
             s.passes = progressive.samples();
+        }
+        // Denoising costs about a round: the picture is finished after the first round, then
+        // at most every half second, and at the end.
+        if last || shown.is_none_or(|t| t.elapsed() >= SHOW_EVERY) {
+            let picture = progressive.picture(start.elapsed(), None);
+            let rgba = picture.rgba8();
+            if let Ok(mut s) = shared.lock() {
+                s.picture = Some((picture, rgba));
+            }
+            shown = Some(Instant::now());
         }
     }
     finish(None);

@@ -42,6 +42,12 @@ pub struct View3d {
 }
 
 impl View3d {
+    /// The size in pixels of the picture last drawn (width, height), if one was: the render
+    /// tab frames its picture to the same shape.
+    pub fn drawn_size(&self) -> Option<[usize; 2]> {
+        self.drawn.as_ref().map(|drawn| drawn.5)
+    }
+
     /// A view of a scene's camera and preview settings.
     pub fn new(scene: &Scene) -> View3d {
         View3d {

@@ -1,4 +1,4 @@
-//! Benchmarks of the curved-ray tracing core. Run with `cargo bench -p orbifold-render --bench trace`.
+//! Benchmarks of the curved-ray tracing core. Run with `cargo bench -p orbifold-trace --bench trace`.
 //!
 //! - `room exit`: where a camera ray leaves the analytic room (closed form).
 //! - `follow`: a ray through up to 16 mirror reflections.

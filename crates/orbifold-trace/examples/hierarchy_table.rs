@@ -2,9 +2,9 @@
 //! room against tessellated rooms, printing Markdown tables for `docs/benchmarks.md`.
 //!
 //! ```sh
-//! cargo run --release -p orbifold-render --example hierarchy_table
+//! cargo run --release -p orbifold-trace --example hierarchy_table
 //! # one model, without the room table:
-//! cargo run --release -p orbifold-render --example hierarchy_table -- buddha.obj --no-room
+//! cargo run --release -p orbifold-trace --example hierarchy_table -- buddha.obj --no-room
 //! ```
 //!
 //! Table 8.2: for each model of `../shared/models/` that is present, embedded 1 unit across at

@@ -11,16 +11,14 @@ use indicatif::{ProgressBar, ProgressStyle};
 use num_complex::Complex64;
 use orbifold::Layout;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, render};
+use orbifold_render::render::{RenderOptions, render, render_picture};
 use orbifold_scene::Scene;
 use orbifold_scene::animation::{Path, Pose};
 use orbifold_trace::camera::Camera;
 use serde::Serialize;
 
 use crate::args::AnimateArgs;
-use crate::commands::render::{
-    check_image_args, denoises, finished, load, settings_and_options, thread_pool,
-};
+use crate::commands::render::{check_image_args, load, settings_and_options, thread_pool};
 use crate::error::CliError;
 use crate::output;
 
@@ -328,9 +326,16 @@ fn animate(
         let camera = Camera::new(integrator.space(), &scene.camera);
         bar.set_message(format!("frame {index} of {first}..{last}"));
         let done_before = bar.position();
-        let image = render(integrator, &camera, &job.options, cancel, &|done, _| {
-            bar.set_position(done_before + u64::from(done));
-        });
+        // Every frame at one exposure, so that the animation does not flicker (an EXR's
+        // exposure is unused).
+        let picture = render_picture(
+            integrator,
+            &camera,
+            &job.options,
+            Some(exposure.unwrap_or(0.0)),
+            cancel,
+            &|done, _| bar.set_position(done_before + u64::from(done)),
+        );
         bar.set_position(done_before + u64::from(job.options.samples));
         if cancel.load(Ordering::Relaxed) {
             bar.finish_and_clear();
@@ -339,8 +344,8 @@ fn animate(
                  again to go on"
             )));
         }
-        finished(&image, denoises(&args.image, format))
-            .write(&file, exposure.unwrap_or(0.0))
+        picture
+            .write(&file)
             .map_err(|e| CliError::Input(format!("cannot write {}: {e}", file.display())))?;
         rendered += 1;
         bar.suspend(|| {
@@ -351,9 +356,9 @@ fn animate(
                     frame: index,
                     output: file.display().to_string(),
                     skipped: false,
-                    seconds: image.elapsed.as_secs_f64(),
-                    samples: image.samples,
-                    relative_noise: Some(image.film.relative_noise()),
+                    seconds: picture.rendered.elapsed.as_secs_f64(),
+                    samples: picture.rendered.samples,
+                    relative_noise: Some(picture.rendered.film.relative_noise()),
                 },
             )
         })?;

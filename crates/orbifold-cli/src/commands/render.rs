@@ -6,10 +6,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use orbifold_render::denoise::{DenoiseOptions, denoise};
-use orbifold_render::film::Film;
 use orbifold_render::integrator::{Integrator, Settings};
-use orbifold_render::render::{RenderOptions, Rendered, render};
+use orbifold_render::render::{RenderOptions, render_picture};
 use orbifold_scene::Scene;
 use orbifold_trace::camera::Camera;
 use serde::Serialize;
@@ -122,17 +120,8 @@ pub(crate) fn settings_and_options(
 }
 
 /// Whether to denoise an image written with this extension (lower case).
-pub(crate) fn denoises(args: &ImageArgs, extension: &str) -> bool {
+fn denoises(args: &ImageArgs, extension: &str) -> bool {
     args.denoise || (!args.no_denoise && extension != "exr")
-}
-
-/// The image to write: the film, denoised or not.
-pub(crate) fn finished(rendered: &Rendered, denoised: bool) -> Film {
-    if denoised {
-        denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default())
-    } else {
-        rendered.film.clone()
-    }
 }
 
 /// A pool of `threads` workers (all cores when absent).
@@ -182,21 +171,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .expect("a valid template"),
     );
     let pool = thread_pool(args.image.threads)?;
-    let rendered = pool.install(|| {
-        render(&integrator, &camera, &options, &cancel, &|done, _| {
-            bar.set_position(u64::from(done));
-        })
+    let picture = pool.install(|| {
+        render_picture(
+            &integrator,
+            &camera,
+            &options,
+            args.image.exposure,
+            &cancel,
+            &|done, _| bar.set_position(u64::from(done)),
+        )
     });
     bar.finish_and_clear();
-    let exposure = args
-        .image
-        .exposure
-        .unwrap_or_else(|| rendered.film.auto_exposure());
-    let denoised = denoises(&args.image, extension.as_deref().unwrap_or(""));
-    let image = finished(&rendered, denoised);
-    image
-        .write(&args.output, exposure)
+    picture
+        .write(&args.output)
         .map_err(|e| CliError::Input(format!("cannot write {}: {e}", args.output.display())))?;
+    let (rendered, exposure, denoised) = (&picture.rendered, picture.exposure, picture.denoised);
 
     let summary = Summary {
         output: args.output.display().to_string(),
