@@ -446,7 +446,7 @@ pub enum LightKind {
     Rectangle,
 }
 
-/// The camera (DESIGN.md §8).
+/// The camera (ARCHITECTURE.md §8).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
@@ -466,7 +466,7 @@ pub struct Camera {
 
 impl Camera {
     /// The pinhole camera's forward, right and up vectors in the eye's orthonormal frame
-    /// (model +x, model +y, up), DESIGN.md §8: forward = (cos pitch cos yaw, cos pitch sin yaw,
+    /// (model +x, model +y, up), ARCHITECTURE.md §8: forward = (cos pitch cos yaw, cos pitch sin yaw,
     /// sin pitch), right = normalise(forward × up_world), up = right × forward. Straight up or
     /// down, right is the one of the yaw alone. The tracer and the preview share it.
     ///
