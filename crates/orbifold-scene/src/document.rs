@@ -1,5 +1,8 @@
 //! The scene document: everything that describes one mirror room.
 
+use num_complex::Complex64;
+use orbifold::Signature;
+use orbifold::layout::{Layout, LayoutOptions, Shape};
 use serde::{Deserialize, Serialize};
 
 /// A linear RGB colour of the scene, each channel in [0, 1].
@@ -27,6 +30,33 @@ pub struct Scene {
     pub render: Render,
     /// Real-time preview settings.
     pub preview: Preview,
+}
+
+impl Scene {
+    /// The layout options the scene asks for.
+    pub fn layout_options(&self) -> LayoutOptions {
+        let o = &self.orbifold;
+        let shape = match (o.parameters.is_empty(), o.shape) {
+            (false, _) => Shape::Parameters(o.parameters.clone()),
+            (true, ShapeName::Incircle) => Shape::Incircle,
+            (true, ShapeName::Default) => Shape::Default,
+        };
+        LayoutOptions {
+            shape,
+            at: Complex64::new(o.at[0], o.at[1]),
+            angle: o.angle.to_radians(),
+        }
+    }
+
+    /// The room's polygon.
+    pub fn layout(&self) -> Result<Layout, String> {
+        let signature: Signature = self
+            .orbifold
+            .signature
+            .parse()
+            .map_err(|e: orbifold::ParseError| e.to_string())?;
+        Layout::new(&signature, &self.layout_options()).map_err(|e| e.to_string())
+    }
 }
 
 /// Settings of the real-time preview (seed Fig. 8.6).
@@ -416,7 +446,7 @@ pub enum LightKind {
     Rectangle,
 }
 
-/// The camera (DESIGN.md §8).
+/// The camera (ARCHITECTURE.md §8).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Camera {
@@ -436,7 +466,7 @@ pub struct Camera {
 
 impl Camera {
     /// The pinhole camera's forward, right and up vectors in the eye's orthonormal frame
-    /// (model +x, model +y, up), DESIGN.md §8: forward = (cos pitch cos yaw, cos pitch sin yaw,
+    /// (model +x, model +y, up), ARCHITECTURE.md §8: forward = (cos pitch cos yaw, cos pitch sin yaw,
     /// sin pitch), right = normalise(forward × up_world), up = right × forward. Straight up or
     /// down, right is the one of the yaw alone. The tracer and the preview share it.
     ///

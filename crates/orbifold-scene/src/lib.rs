@@ -2,7 +2,7 @@
 //! studio all read and write — the orbifold and its layout, the room (height, mirrors,
 //! materials), objects, lights, the camera and render settings — its TOML file format
 //! (`docs/scene-format.md`), and its validation, with errors that give file, line, column and key.
-//! See DESIGN.md §7.
+//! See ARCHITECTURE.md §7.
 //!
 //! ```
 //! use orbifold_scene::Scene;

@@ -3,10 +3,9 @@
 use std::path::Path;
 
 use num_complex::Complex64;
-use orbifold::Signature;
-use orbifold::layout::{Layout, LayoutOptions, Shape};
+use orbifold::layout::Layout;
 
-use crate::document::{Color, LightKind, Material, Scene, ShapeName};
+use crate::document::{Color, LightKind, Material, Scene};
 
 /// The built-in object shapes.
 pub const SHAPES: [&str; 9] = [
@@ -15,33 +14,6 @@ pub const SHAPES: [&str; 9] = [
 
 /// Problems, each as (key, message).
 type Problems = Vec<(String, String)>;
-
-impl Scene {
-    /// The layout options the scene asks for.
-    pub fn layout_options(&self) -> LayoutOptions {
-        let o = &self.orbifold;
-        let shape = match (o.parameters.is_empty(), o.shape) {
-            (false, _) => Shape::Parameters(o.parameters.clone()),
-            (true, ShapeName::Incircle) => Shape::Incircle,
-            (true, ShapeName::Default) => Shape::Default,
-        };
-        LayoutOptions {
-            shape,
-            at: Complex64::new(o.at[0], o.at[1]),
-            angle: o.angle.to_radians(),
-        }
-    }
-
-    /// The room's polygon.
-    pub fn layout(&self) -> Result<Layout, String> {
-        let signature: Signature = self
-            .orbifold
-            .signature
-            .parse()
-            .map_err(|e: orbifold::ParseError| e.to_string())?;
-        Layout::new(&signature, &self.layout_options()).map_err(|e| e.to_string())
-    }
-}
 
 /// Every problem with `scene`; `base` resolves relative file names.
 pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {

@@ -2,7 +2,7 @@
 //! ([`procedural`]) and meshes read from OBJ, PLY and glTF/GLB files ([`import`]).
 //!
 //! Object space is Euclidean with **Y up** (the glTF convention, and what most OBJ and PLY
-//! files use); embedding into the room (DESIGN.md §7) maps x and z through the exponential map
+//! files use); embedding into the room (ARCHITECTURE.md §7) maps x and z through the exponential map
 //! and y to height.
 
 pub mod import;
