@@ -239,7 +239,7 @@ pub struct ImageArgs {
     /// slightly softer image) or `box` (each sample counts for its own pixel only: sharper,
     /// noisier).
     #[arg(long, value_name = "gaussian|box", value_parser = parse_filter)]
-    pub filter: Option<orbifold_render::filter::PixelFilter>,
+    pub filter: Option<orbifold_render::film::PixelFilter>,
     /// Exposure in stops for PNG and JPEG tone mapping (default: automatic, the log-average
     /// luminance to middle grey 0.18; for an animation, that of a small render of frame 0).
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true)]
@@ -425,8 +425,8 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 }
 
 /// A pixel filter by name (`box` or `gaussian`).
-fn parse_filter(text: &str) -> Result<orbifold_render::filter::PixelFilter, String> {
-    orbifold_render::filter::PixelFilter::from_name(text)
+fn parse_filter(text: &str) -> Result<orbifold_render::film::PixelFilter, String> {
+    orbifold_render::film::PixelFilter::from_name(text)
 }
 
 const ROOM_EXAMPLES: &str = "\

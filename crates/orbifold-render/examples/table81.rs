@@ -43,8 +43,8 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise};
+use orbifold_render::film::PixelFilter;
 use orbifold_render::film::{Film, tone_map};
-use orbifold_render::filter::PixelFilter;
 use orbifold_render::integrator::{Integrator, Settings};
 use orbifold_render::render::{Progressive, RenderOptions, render};
 use orbifold_scene::{LightKind, Scene};

@@ -38,8 +38,8 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::film::PixelFilter;
 use crate::film::{Film, Splat};
-use crate::filter::PixelFilter;
 use crate::integrator::FirstHit;
 use crate::lights::Rgb;
 use orbifold_scene::color::luminance;
@@ -241,7 +241,7 @@ impl Guides {
     ///
     /// ```
     /// use orbifold_render::denoise::Guides;
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     /// use orbifold_render::integrator::FirstHit;
     ///
     /// let mut guides = Guides::new(3, 3);

@@ -2,11 +2,10 @@
 //! `orbifold-trace`: lights and their mirror images ([`lights`]), materials and textures
 //! ([`materials`], [`textures`]), the path tracer ([`integrator`]), the radiance cache for far mirror
 //! images and indirect light ([`radiance_cache`]), samplers ([`sampler`]), the pixel filter and
-//! film ([`filter`], [`film`]), the guided denoiser ([`denoise`]), the progressive render loop
+//! film ([`film`]), the guided denoiser ([`denoise`]), the progressive render loop
 //! ([`render`]) and straight rays for comparison ([`straight_rays`]). See ARCHITECTURE.md.
 
 pub mod film;
-pub mod filter;
 pub mod sampler;
 
 pub mod denoise;

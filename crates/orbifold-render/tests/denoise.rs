@@ -3,8 +3,8 @@
 
 use glam::DVec3;
 use orbifold_render::denoise::{DenoiseOptions, Guides, denoise, denoise_with_reduction};
+use orbifold_render::film::PixelFilter;
 use orbifold_render::film::{Film, tone_map};
-use orbifold_render::filter::PixelFilter;
 use orbifold_render::integrator::{FirstHit, Settings};
 use orbifold_render::render::{RenderOptions, Rendered, render_scene};
 use orbifold_render::sampler::Sampler;

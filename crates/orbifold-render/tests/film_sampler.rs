@@ -5,8 +5,8 @@ use std::io::Cursor;
 use std::path::Path;
 
 use glam::DVec3;
+use orbifold_render::film::PixelFilter;
 use orbifold_render::film::{Film, tone_map};
-use orbifold_render::filter::PixelFilter;
 use orbifold_render::orbifold_scene::color::luminance;
 use orbifold_render::sampler::{
     Distribution1d, Frame, Sampler, cosine_hemisphere, cosine_hemisphere_pdf, frame_from_normal,

@@ -7,7 +7,7 @@ use orbifold::Geometry;
 use orbifold::space::Space;
 use orbifold_render::denoise::{DenoiseOptions, denoise_with_reduction};
 use orbifold_render::film::Film;
-use orbifold_render::filter::PixelFilter;
+use orbifold_render::film::PixelFilter;
 use orbifold_render::integrator::Settings;
 use orbifold_render::lights::{TangentFrame, spread};
 use orbifold_render::render::{RenderOptions, render_scene};

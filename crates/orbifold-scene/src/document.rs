@@ -537,7 +537,7 @@ pub struct Render {
     pub filter: ReconstructionFilter,
 }
 
-/// The pixel reconstruction filter of a render (`orbifold_render::filter::PixelFilter`).
+/// The pixel reconstruction filter of a render (`orbifold_render::film::PixelFilter`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum ReconstructionFilter {

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use crate::filter::PixelFilter;
+use crate::film::PixelFilter;
 
 /// What to render.
 #[derive(Clone, Copy, Debug, PartialEq)]

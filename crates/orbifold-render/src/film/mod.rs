@@ -4,7 +4,7 @@
 //! Pixel (0, 0) is the top-left corner; x grows to the right and y downwards, as in the image
 //! files. Every sample belongs to the pixel it was taken for; a pixel's value is its own samples'
 //! mean under the box filter ([`Film::add`]), or under a wider reconstruction filter
-//! ([`Film::splat`], [`crate::filter::PixelFilter`]) the filter's weighted mean of its
+//! ([`Film::splat`], [`PixelFilter`]) the filter's weighted mean of its
 //! neighbours' means, each an unbiased estimate whatever its pixel's number of samples.
 //!
 //! **Parallel use.** A [`Film`] is plain data: each rayon task can fill a film of its own (or a
@@ -18,18 +18,19 @@
 //! which [`Film::standard_error`] and [`Film::relative_noise`] are computed: the variance of a
 //! weighted mean of independent samples is s²·Σw²/(Σw)².
 
-use std::fs::{self, File, OpenOptions};
-use std::io::{Cursor, Write};
-use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-use image::ImageEncoder;
-use image::codecs::png::PngEncoder;
-use rayon::prelude::*;
+mod accumulator;
+pub mod filter;
+mod output;
+mod statistics;
+mod tone;
 
 use orbifold_scene::color::luminance;
+use rayon::prelude::*;
 
-use crate::filter::PixelFilter;
+use accumulator::Accumulator;
+pub use filter::PixelFilter;
+pub(crate) use statistics::RunningStats;
+pub use tone::{tone_curve, tone_map};
 
 /// The offset in the denominator of [`Film::relative_noise`], so that black pixels do not
 /// dominate the mean.
@@ -72,83 +73,6 @@ pub struct Splat {
     pub y: u32,
     /// Its radiance.
     pub radiance: [f64; 3],
-}
-
-/// What a pixel has summed of the samples that count for it, with their weights.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Accumulator {
-    /// Σ weight × radiance.
-    sum: [f64; 3],
-    /// Σ weight and Σ weight².
-    weight: f64,
-    weight2: f64,
-    /// The weighted running mean of the sample luminance.
-    lum_mean: f64,
-    /// Σ weight × (luminance − mean)² (the weighted M2).
-    lum_m2: f64,
-    /// Under a reconstruction filter: Σ Kⱼ² vⱼ over the pixels j merged in, with Kⱼ the weight
-    /// of pixel j's mean and vⱼ the variance of that mean from its own samples (+∞ when some
-    /// pixel j has fewer than two); unused for a pixel's own samples.
-    mean_variance: f64,
-}
-
-impl Accumulator {
-    /// Counts a finite sample with weight `w` > 0 (West 1979: the weighted form of Welford's
-    /// update).
-    fn add(&mut self, radiance: [f64; 3], w: f64) {
-        for (acc, c) in self.sum.iter_mut().zip(radiance) {
-            *acc += w * c;
-        }
-        self.weight += w;
-        self.weight2 += w * w;
-        let l = luminance(radiance);
-        let delta = l - self.lum_mean;
-        self.lum_mean += delta * w / self.weight;
-        self.lum_m2 += w * delta * (l - self.lum_mean);
-    }
-
-    /// The same samples, each weighted `factor` times as much; `mean_variance` is that of a
-    /// pixel's own samples so weighted (their mean's weight is K = `factor` · Σ weight).
-    fn scaled(&self, factor: f64) -> Accumulator {
-        let weight = self.weight * factor;
-        Accumulator {
-            sum: self.sum.map(|s| s * factor),
-            weight,
-            weight2: self.weight2 * factor * factor,
-            lum_mean: self.lum_mean,
-            lum_m2: self.lum_m2 * factor,
-            mean_variance: self.own_mean_variance().unwrap_or(f64::INFINITY) * weight * weight,
-        }
-    }
-
-    /// The variance of the weighted mean luminance, s²·Σw²/(Σw)², with s² the weighted sample
-    /// variance of the samples summed here; `None` for fewer than two (effective) samples.
-    fn own_mean_variance(&self) -> Option<f64> {
-        let (w, w2) = (self.weight, self.weight2);
-        let effective = if w2 > 0.0 { w * w / w2 } else { 0.0 };
-        (effective > 1.0 + 1e-9).then(|| {
-            let s2 = (self.lum_m2 / (w - w2 / w)).max(0.0);
-            s2 * w2 / (w * w)
-        })
-    }
-
-    /// Adds another pixel's sums (Chan et al.'s formula for the deviations).
-    fn merge(&mut self, other: &Accumulator) {
-        let (wa, wb) = (self.weight, other.weight);
-        if wb == 0.0 {
-            return;
-        }
-        for (acc, c) in self.sum.iter_mut().zip(other.sum) {
-            *acc += c;
-        }
-        let w = wa + wb;
-        let delta = other.lum_mean - self.lum_mean;
-        self.lum_mean += delta * wb / w;
-        self.lum_m2 += other.lum_m2 + delta * delta * wa * wb / w;
-        self.weight = w;
-        self.weight2 += other.weight2;
-        self.mean_variance += other.mean_variance;
-    }
 }
 
 impl Film {
@@ -309,7 +233,7 @@ impl Film {
     ///
     /// ```
     /// use orbifold_render::film::Film;
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     ///
     /// let mut film = Film::new(3, 3);
     /// film.splat(1, 1, [1.0; 3], PixelFilter::GAUSSIAN);
@@ -340,7 +264,7 @@ impl Film {
     ///
     /// ```
     /// use orbifold_render::film::{Film, Splat};
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     ///
     /// let samples = [
     ///     Splat { x: 1, y: 0, radiance: [1.0; 3] },
@@ -628,243 +552,4 @@ impl Film {
             .sum();
         total / n as f64
     }
-
-    /// The film as an OpenEXR file in memory: one layer with the channels R, G, B as 32-bit
-    /// floats of linear radiance (the pixel means), ZIP-compressed scan lines, top line first.
-    ///
-    /// ```
-    /// use orbifold_render::film::Film;
-    ///
-    /// let mut film = Film::new(2, 2);
-    /// film.add(0, 0, [1.5, 0.25, 4.0]);
-    /// let bytes = film.to_exr_bytes().unwrap();
-    /// assert_eq!(&bytes[..4], &[0x76, 0x2f, 0x31, 0x01]); // the OpenEXR magic number
-    /// ```
-    pub fn to_exr_bytes(&self) -> Result<Vec<u8>, String> {
-        use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
-
-        let size = (self.width as usize, self.height as usize);
-        let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
-            let c = self.mean_at(p.y() * size.0 + p.x());
-            (c[0] as f32, c[1] as f32, c[2] as f32)
-        });
-        let image = Image::from_encoded_channels(size, Encoding::SMALL_LOSSLESS, channels);
-        let mut out = Cursor::new(Vec::new());
-        image
-            .write()
-            .to_buffered(&mut out)
-            .map_err(|e| format!("cannot encode the OpenEXR image: {e}"))?;
-        Ok(out.into_inner())
-    }
-
-    /// The film as an 8-bit sRGB PNG in memory, each pixel mean tone-mapped with
-    /// [`tone_map`] at `exposure` stops.
-    ///
-    /// ```
-    /// use orbifold_render::film::Film;
-    ///
-    /// let mut film = Film::new(3, 2);
-    /// film.add(2, 1, [1.0; 3]);
-    /// let bytes = film.to_png_bytes(0.0).unwrap();
-    /// assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
-    /// ```
-    pub fn to_png_bytes(&self, exposure: f64) -> Result<Vec<u8>, String> {
-        let data: Vec<u8> = (0..self.count.len())
-            .flat_map(|i| tone_map(self.mean_at(i), exposure))
-            .collect();
-        let mut out = Vec::new();
-        PngEncoder::new(&mut out)
-            .write_image(
-                &data,
-                self.width,
-                self.height,
-                image::ExtendedColorType::Rgb8,
-            )
-            .map_err(|e| format!("cannot encode the PNG image: {e}"))?;
-        Ok(out)
-    }
-
-    /// Exposure (stops) that takes the image's log-average luminance to middle grey
-    /// (Reinhard's key 0.18), within ±12 stops; 0 for a black image.
-    ///
-    /// ```
-    /// use orbifold_render::film::Film;
-    ///
-    /// let mut film = Film::new(2, 1);
-    /// film.add(0, 0, [0.72; 3]);
-    /// film.add(1, 0, [0.72; 3]);
-    /// assert!((film.auto_exposure() + 2.0).abs() < 1e-3);
-    /// assert_eq!(Film::new(2, 2).auto_exposure(), 0.0);
-    /// ```
-    pub fn auto_exposure(&self) -> f64 {
-        let (mut sum, mut count) = (0.0, 0.0);
-        for i in 0..self.count.len() {
-            let l = luminance(self.mean_at(i));
-            if l.is_finite() && l > 0.0 {
-                sum += (1e-4 + l).ln();
-                count += 1.0;
-            }
-        }
-        if count == 0.0 {
-            return 0.0;
-        }
-        (0.18 / (sum / count).exp()).log2().clamp(-12.0, 12.0)
-    }
-
-    /// The film as a tone-mapped 8-bit sRGB JPEG of the given quality (1 to 100) in memory:
-    /// small files for galleries and web pages.
-    ///
-    /// ```
-    /// use orbifold_render::film::Film;
-    ///
-    /// let mut film = Film::new(3, 2);
-    /// film.add(2, 1, [1.0; 3]);
-    /// let bytes = film.to_jpeg_bytes(0.0, 90).unwrap();
-    /// assert_eq!(&bytes[..2], b"\xff\xd8");
-    /// ```
-    pub fn to_jpeg_bytes(&self, exposure: f64, quality: u8) -> Result<Vec<u8>, String> {
-        let data: Vec<u8> = (0..self.count.len())
-            .flat_map(|i| tone_map(self.mean_at(i), exposure))
-            .collect();
-        let mut out = Vec::new();
-        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
-            .write_image(
-                &data,
-                self.width,
-                self.height,
-                image::ExtendedColorType::Rgb8,
-            )
-            .map_err(|e| format!("cannot encode the JPEG image: {e}"))?;
-        Ok(out)
-    }
-
-    /// Writes the film to `path`: OpenEXR ([`Film::to_exr_bytes`]) for the extension `.exr`,
-    /// PNG ([`Film::to_png_bytes`] at `exposure` stops) for `.png`, JPEG of quality 90
-    /// ([`Film::to_jpeg_bytes`]) for `.jpg` or `.jpeg` (in any letter case).
-    /// Any other extension, or none, is an error that names it. The file is written
-    /// atomically: the bytes go to a new temporary file in the same directory, which is synced
-    /// and then renamed over `path`, so `path` never holds a partial image; the temporary file
-    /// is removed if anything fails.
-    ///
-    /// ```
-    /// use orbifold_render::film::Film;
-    ///
-    /// let tmp = tempfile::Builder::new().prefix("orbifold-film-doc-").tempdir().unwrap();
-    /// let dir = tmp.path();
-    /// let mut film = Film::new(4, 4);
-    /// film.add(1, 1, [0.5, 0.6, 0.7]);
-    /// film.write(&dir.join("image.png"), 0.0).unwrap();
-    /// film.write(&dir.join("image.exr"), 0.0).unwrap();
-    /// let error = film.write(&dir.join("image.tiff"), 0.0).unwrap_err();
-    /// assert!(error.contains("tiff"));
-    /// ```
-    pub fn write(&self, path: &Path, exposure: f64) -> Result<(), String> {
-        let extension = path.extension().map(|e| e.to_string_lossy().into_owned());
-        let bytes = match extension.as_deref().map(str::to_ascii_lowercase).as_deref() {
-            Some("exr") => self.to_exr_bytes()?,
-            Some("png") => self.to_png_bytes(exposure)?,
-            Some("jpg" | "jpeg") => self.to_jpeg_bytes(exposure, 90)?,
-            Some(_) => {
-                return Err(format!(
-                    "unsupported image extension \".{}\" (use .exr, .png or .jpg)",
-                    extension.unwrap_or_default()
-                ));
-            }
-            None => {
-                return Err(format!(
-                    "{} has no extension (use .exr, .png or .jpg)",
-                    path.display()
-                ));
-            }
-        };
-        write_atomically(path, &bytes)
-    }
-}
-
-/// Distinguishes the temporary files of concurrent writes within one process.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes `bytes` to a fresh temporary file beside `path`, syncs it and renames it to `path`.
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| format!("{} is not a file name", path.display()))?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let temp = dir.join(format!(
-        ".{}.{}-{}.tmp",
-        name.to_string_lossy(),
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let mut file: File = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&temp)
-        .map_err(|e| format!("cannot create {}: {e}", temp.display()))?;
-    let written = file
-        .write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .map_err(|e| format!("cannot write {}: {e}", temp.display()));
-    drop(file);
-    let result = written.and_then(|()| {
-        fs::rename(&temp, path).map_err(|e| {
-            format!(
-                "cannot rename {} to {}: {e}",
-                temp.display(),
-                path.display()
-            )
-        })
-    });
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
-    }
-    result
-}
-
-/// The filmic curve of Narkowicz (2015), "ACES Filmic Tone Mapping Curve": a fit of the ACES
-/// reference rendering transform, x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped to [0, 1].
-/// Increasing on [0, ∞), 0 at 0, and 1 from x ≈ 8.5 on.
-fn aces_narkowicz(x: f64) -> f64 {
-    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
-}
-
-/// The tone curve of [`tone_map`] for one channel, before rounding: linear radiance `x` at
-/// `exposure` stops to the encoded display value in [0, 1].
-///
-/// ```
-/// use orbifold_render::film::{tone_curve, tone_map};
-///
-/// let x = 0.3;
-/// assert_eq!((tone_curve(x, 0.5) * 255.0).round() as u8, tone_map([x; 3], 0.5)[0]);
-/// ```
-pub fn tone_curve(x: f64, exposure: f64) -> f64 {
-    let x = (x * exposure.exp2()).max(0.0);
-    if x.is_infinite() {
-        1.0
-    } else {
-        orbifold_scene::color::srgb_encode(aces_narkowicz(x))
-    }
-}
-
-/// Tone-maps linear radiance to 8-bit sRGB: each channel is multiplied by 2^`exposure`
-/// (`exposure` in stops), mapped by the ACES filmic fit of Narkowicz (2015),
-/// x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14) clamped to [0, 1] (applied per channel, without
-/// the 0.6 pre-exposure of the original article), encoded with the sRGB OETF and rounded to
-/// 0..=255. Negative and NaN values give 0, +∞ gives 255. Nondecreasing in each channel.
-///
-/// ```
-/// use orbifold_render::film::tone_map;
-///
-/// assert_eq!(tone_map([0.0; 3], 0.0), [0, 0, 0]);
-/// assert_eq!(tone_map([1e9; 3], 0.0), [255, 255, 255]);
-/// let [r, _, _] = tone_map([0.18, 0.0, 0.0], 0.0);
-/// let [brighter, _, _] = tone_map([0.18, 0.0, 0.0], 1.0);
-/// assert!(brighter > r);
-/// ```
-pub fn tone_map(rgb: [f64; 3], exposure: f64) -> [u8; 3] {
-    // `f64::max` in `tone_curve` maps NaN to 0 too.
-    rgb.map(|c| (tone_curve(c, exposure) * 255.0).round().clamp(0.0, 255.0) as u8)
 }

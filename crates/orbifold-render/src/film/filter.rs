@@ -35,7 +35,7 @@ pub const MOST_PIXELS: usize = 5;
 /// A pixel reconstruction filter.
 ///
 /// ```
-/// use orbifold_render::filter::PixelFilter;
+/// use orbifold_render::film::PixelFilter;
 ///
 /// // A pixel's own samples count most for it, its neighbours' a little.
 /// let weights = PixelFilter::default().pixel_weights();
@@ -69,7 +69,7 @@ impl From<ReconstructionFilter> for PixelFilter {
     /// The filter a scene's `[render]` table names.
     ///
     /// ```
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     /// use orbifold_scene::ReconstructionFilter;
     ///
     /// assert_eq!(PixelFilter::from(ReconstructionFilter::Box), PixelFilter::Box);
@@ -93,7 +93,7 @@ impl PixelFilter {
     /// The filter named `name`: `box` or `gaussian` ([`PixelFilter::GAUSSIAN`]).
     ///
     /// ```
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     ///
     /// assert_eq!(PixelFilter::from_name("box"), Ok(PixelFilter::Box));
     /// assert!(PixelFilter::from_name("mitchell").unwrap_err().contains("box, gaussian"));
@@ -112,7 +112,7 @@ impl PixelFilter {
     /// radius).
     ///
     /// ```
-    /// use orbifold_render::filter::PixelFilter;
+    /// use orbifold_render::film::PixelFilter;
     ///
     /// assert_eq!(PixelFilter::default().name(), "gaussian");
     /// assert_eq!(PixelFilter::from_name("box").unwrap().name(), "box");
