@@ -39,7 +39,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::film::PixelFilter;
-use crate::film::{Film, Splat};
+use crate::film::{Film, RunningStats, Splat};
 use crate::integrator::FirstHit;
 use crate::lights::Rgb;
 use orbifold_scene::color::luminance;
@@ -74,9 +74,9 @@ struct GuideSums {
     /// The luminance statistics of the light seen directly (which the filter leaves as it is:
     /// its noise stays in the denoised image), of the light sample and of the rest of the
     /// reflected light.
-    emitted_stats: Welford,
-    direct_stats: Welford,
-    rest_stats: Welford,
+    emitted_stats: RunningStats,
+    direct_stats: RunningStats,
+    rest_stats: RunningStats,
     /// Σ weight and Σ weight².
     weight: f64,
     weight2: f64,
@@ -124,10 +124,9 @@ impl GuideSums {
         }
         self.weight += w;
         self.weight2 += w * w;
-        let share = w / self.weight;
-        self.emitted_stats.add(path.emitted, w, share);
-        self.direct_stats.add(path.direct, w, share);
-        self.rest_stats.add(path.rest, w, share);
+        self.emitted_stats.add(path.emitted, w, self.weight);
+        self.direct_stats.add(path.direct, w, self.weight);
+        self.rest_stats.add(path.rest, w, self.weight);
         self.normal += w * first.normal;
         self.depth += w * first.depth;
         self.depth2 += w * first.depth * first.depth;
@@ -149,11 +148,7 @@ impl GuideSums {
             (&mut self.direct_stats, &other.direct_stats),
             (&mut self.rest_stats, &other.rest_stats),
         ] {
-            let scaled = Welford {
-                mean: theirs.mean,
-                m2: theirs.m2 * factor,
-            };
-            mine.merge(&scaled, wa, wb);
+            mine.merge(&theirs.scaled(factor), wa, wb);
         }
         self.weight = wa + wb;
         self.weight2 += other.weight2 * factor * factor;
@@ -177,7 +172,7 @@ impl GuideSums {
     }
 
     /// The standard error of the weighted mean of the values that `stats` follows.
-    fn standard_error(&self, stats: &Welford) -> f64 {
+    fn standard_error(&self, stats: &RunningStats) -> f64 {
         stats.standard_error(self.weight, self.weight2)
     }
 
@@ -383,45 +378,6 @@ impl Guides {
     }
 }
 
-/// A weighted running mean and sum of squared deviations (West's weighted form of Welford's
-/// algorithm), for a standard error.
-#[derive(Clone, Copy, Debug, Default)]
-struct Welford {
-    mean: f64,
-    m2: f64,
-}
-
-impl Welford {
-    /// Merges `other`, whose values weigh `wb` in all, into these, which weigh `wa` (Chan et
-    /// al.'s formula).
-    fn merge(&mut self, other: &Welford, wa: f64, wb: f64) {
-        let w = wa + wb;
-        if wb <= 0.0 || w <= 0.0 {
-            return;
-        }
-        let delta = other.mean - self.mean;
-        self.mean += delta * wb / w;
-        self.m2 += other.m2 + delta * delta * wa * wb / w;
-    }
-
-    /// Adds `value` with weight `w`, whose share of the weights' sum (with it) is `share`.
-    fn add(&mut self, value: f64, w: f64, share: f64) {
-        let delta = value - self.mean;
-        self.mean += delta * share;
-        self.m2 += w * delta * (value - self.mean);
-    }
-
-    /// The standard error of the weighted mean, with Σw = `w` and Σw² = `w2` (for unit weights
-    /// √(s²/n)); infinite while the effective number of samples (Σw)²/Σw² is at most one.
-    fn standard_error(&self, w: f64, w2: f64) -> f64 {
-        if w2 <= 0.0 || w * w <= w2 * (1.0 + 1e-9) {
-            return f64::INFINITY;
-        }
-        let s2 = (self.m2 / (w - w2 / w)).max(0.0);
-        (s2 * w2).sqrt() / w
-    }
-}
-
 /// How strongly a pixel's relative depth spread lowers its coherence.
 const COHERENCE_DEPTH: f64 = 4.0;
 
@@ -583,7 +539,7 @@ pub fn denoise_with_reduction(
         .into_par_iter()
         .map(|i| guides.mean_emitted(i))
         .collect();
-    let over_albedo = |i: usize, value: Rgb, stats: &Welford| {
+    let over_albedo = |i: usize, value: Rgb, stats: &RunningStats| {
         let a = albedo[i];
         let se = guides.pixels[i].standard_error(stats);
         let scale = luminance(a).max(ALBEDO_FLOOR);
