@@ -320,3 +320,42 @@ fn a_scene_s_render_table_names_its_filter_and_the_flag_overrides_it() {
         .code(2)
         .stderr(predicate::str::contains("mitchell"));
 }
+
+/// `orbifold render` makes its picture with the library's one render pipeline
+/// (`orbifold_render::render::render_picture`): a scene rendered by the command line with its
+/// default settings is, byte for byte, the pipeline's picture of that scene and camera (the
+/// studio's render tab is checked against the same pipeline in its own tests).
+#[test]
+fn the_command_line_picture_is_the_library_pipeline_s() {
+    use orbifold_render::integrator::{Integrator, Settings};
+    use orbifold_render::render::{RenderOptions, render_picture};
+    use orbifold_trace::camera::Camera;
+
+    let tmp = temp();
+    let input = scenes().join("fig-1.2-333.toml");
+    let cli = tmp.path().join("cli.png");
+    render(&[
+        input.to_str().unwrap(),
+        "-o",
+        cli.to_str().unwrap(),
+        "--size",
+        "40x30",
+        "--spp",
+        "4",
+    ]);
+    let scene = orbifold_scene::Scene::load(&input).unwrap();
+    let integrator =
+        Integrator::from_scene(&scene, input.parent(), Settings::of_scene(&scene)).unwrap();
+    let camera = Camera::new(integrator.space(), &scene.camera);
+    let options = RenderOptions {
+        denoised: true,
+        filter: scene.render.filter.into(),
+        ..RenderOptions::new(40, 30, 4, 0)
+    };
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let picture = render_picture(&integrator, &camera, &options, None, &stop, &|_, _| {});
+    assert!(picture.denoised);
+    let library = tmp.path().join("library.png");
+    picture.write(&library).unwrap();
+    assert!(std::fs::read(&cli).unwrap() == std::fs::read(&library).unwrap());
+}

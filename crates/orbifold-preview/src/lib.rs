@@ -1,5 +1,5 @@
 //! The real-time rasteriser (wgpu) that draws a mirror room and its mirror copies with the
-//! non-Euclidean projection (DESIGN.md §9, seed §6.3 and §8.1.1.1).
+//! non-Euclidean projection (ARCHITECTURE.md §9, seed §6.3 and §8.1.1.1).
 //!
 //! Mirrors are not traced: every copy of the room under the reflection group, up to a word
 //! length, is drawn as a GPU instance carrying its group element and the product of the mirrors'

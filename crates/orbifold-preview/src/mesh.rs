@@ -1,7 +1,7 @@
 //! The room and its objects as GPU-ready triangle lists: vertices in ambient coordinates with
 //! heights, pattern coordinates, and the index of their part in the part table.
 //!
-//! Objects are kept in their own frames (embedded at the origin, DESIGN.md §7) and placed by a
+//! Objects are kept in their own frames (embedded at the origin, ARCHITECTURE.md §7) and placed by a
 //! transform in the part table, so moving one uploads 64 bytes. Their parts come first in the
 //! table, so that rebuilding the room (a new layout) leaves the objects' indices alone.
 

@@ -1,4 +1,4 @@
-// The non-Euclidean projection of DESIGN.md §9, in closed form. `projection.rs` is its exact
+// The non-Euclidean projection of ARCHITECTURE.md §9, in closed form. `projection.rs` is its exact
 // twin on the CPU (tests hold the two to the same pixels).
 
 const TAU: f32 = 6.283185307179586;

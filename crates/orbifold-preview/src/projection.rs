@@ -1,4 +1,4 @@
-//! The non-Euclidean projection (DESIGN.md §9), on the CPU: the exact twin of the vertex
+//! The non-Euclidean projection (ARCHITECTURE.md §9), on the CPU: the exact twin of the vertex
 //! shader, used by tests, culling and picking.
 //!
 //! A point (p, h) of the product space is taken to the camera's frame by an isometry (the eye
@@ -6,7 +6,7 @@
 //! axes), then mapped by the logarithm map of the product space: horizontal distance d and
 //! bearing, plus the height difference. That tangent vector T is the initial velocity of the
 //! geodesic from the eye that reaches the point at arc length |T|, so the pinhole projection of
-//! T is exactly the pixel whose camera ray (DESIGN.md §8) hits the point. In S²×R the point is
+//! T is exactly the pixel whose camera ray (ARCHITECTURE.md §8) hits the point. In S²×R the point is
 //! reached again the long way round the sphere, by the geodesic with horizontal distance 2π − d
 //! in the opposite bearing, and then after whole turns: image k = 2w (+1) of a point has
 //! horizontal distance d + 2πw (or 2π(w + 1) − d, reversed).

@@ -392,18 +392,16 @@ pub struct DenoiseOptions {
     /// paths). Lower than [`DenoiseOptions::sigma_normal`]: light that arrives after a bounce
     /// comes from all round and changes slowly with the normal, while a light sample follows
     /// the normal's cosine to the light. On a bumpy mesh, whose normals turn by tens of degrees
-    /// from pixel to pixel, the light sample's exponent let nothing be averaged there; with 8
-    /// instead of 64 the denoised 99th percentile of `*444`'s dragons at 896² fell by 6 % for a
-    /// bias that moved by 0.05 levels RMS (`docs/benchmarks.md`).
+    /// from pixel to pixel, the light sample's exponent would let nothing be averaged there (the
+    /// trade of noise for bias is measured in `docs/benchmarks.md`).
     pub sigma_normal_rest: f64,
     /// Relative depth difference that halves the weight about e-fold.
     pub sigma_depth: f64,
     /// Albedo difference scale; infinite (the default) for no albedo guide. The lighting is
     /// filtered divided by the albedo, so a texture's edge is no lighting edge; and where a
     /// checkerboard's checks shrink towards a pixel, each pixel's footprint-averaged albedo
-    /// differs from its neighbours' (a moiré), so an albedo guide stopped the filter just where
-    /// the far floor's noise was worst (the denoised 99th percentile 6-10 % higher in every
-    /// Table 8.1 room; `docs/benchmarks.md`).
+    /// differs from its neighbours' (a moiré), so an albedo guide would stop the filter just where
+    /// the far floor's noise is worst.
     pub sigma_albedo: f64,
     /// Lighting difference, in standard errors, that the weight tolerates.
     pub sigma_lighting: f64,
@@ -467,10 +465,9 @@ pub fn denoise(film: &Film, guides: &Guides, options: &DenoiseOptions) -> Film {
 /// that noise after denoising, however smooth the wall behind them.
 ///
 /// The propagation ignores the correlation that each pass gives its outputs, so on smooth
-/// surfaces the factor is far smaller than the true one; it orders pixels well. (Measured on the
-/// rooms of the seed's Table 8.1 at 896²: where it says 10⁻⁴, 10⁻³, 10⁻² and 10⁻¹, two seeds'
-/// denoised pixels differ by 0.005, 0.03, 0.08 and 0.2-0.25 of the raw variance — about 0.6·√
-/// of it, which is why adaptive sampling weighs pixels by its square root.)
+/// surfaces the factor is far smaller than the true one; it orders pixels well. Two seeds'
+/// denoised pixels differ by roughly 0.6·√ of the factor times the raw variance, which is why
+/// adaptive sampling weighs pixels by its square root (`docs/benchmarks.md`).
 ///
 /// ```
 /// use orbifold_render::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
@@ -875,9 +872,8 @@ impl<'a> Guide<'a> {
         let (width, n) = (self.width, self.width * self.height);
         let mut planes = parts.each_ref().map(Planes::new);
         // Every pass reads `planes` and writes `next`, then the two swap: the planes, the
-        // tolerances and the rows' sums are allocated once for all passes. (Fresh memory each
-        // pass, a few hundred megabytes at 896², and the planes assembled in one loop took a
-        // quarter of the denoiser's time: docs/benchmarks.md.)
+        // tolerances and the rows' sums are allocated once for all passes, because at large sizes
+        // fresh memory each pass costs more in page faults than the filtering.
         let mut next = planes.each_ref().map(|_| Planes::zeroed(n));
         let mut tolerance: [Vec<f64>; PARTS] = std::array::from_fn(|_| vec![0.0; n]);
         for pass in 0..self.options.passes {

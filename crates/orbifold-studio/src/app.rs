@@ -58,6 +58,12 @@ pub struct Studio {
 }
 
 impl Studio {
+    /// The size (width, height) in pixels that the next render will have: with "frame as the
+    /// 3D view" on, its height follows from its width and the 3D view's shape.
+    pub fn render_size(&self) -> (u32, u32) {
+        self.render_size
+    }
+
     /// A studio on a document. `data` is the studio's own folder (recent files, recovery);
     /// `None` keeps nothing (tests).
     pub fn new(document: Document, data: Option<PathBuf>) -> Studio {

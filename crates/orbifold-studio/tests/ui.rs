@@ -305,8 +305,22 @@ fn the_tiling_and_render_tabs_show_their_pictures() {
     assert_eq!(harness.state().tab, Tab::Tiling);
     harness.get_by_label("render").click();
     harness.run();
+    // Framed as the 3D view by default: the render takes the shape the view last drew.
+    set(&mut harness, "render width", 64.0);
+    let [w, h] = harness
+        .state()
+        .view
+        .drawn_size()
+        .expect("the 3D view was drawn");
+    let height = ((64.0 * h as f64 / w as f64).round() as u32).clamp(16, 4096);
+    assert_eq!(harness.state().render_size(), (64, height));
+    assert!(harness.query_by_label("render height").is_none());
+    // Unframed, the height is the user's.
+    harness.get_by_label("frame as the 3D view").click();
+    harness.run();
     set(&mut harness, "render width", 32.0);
     set(&mut harness, "render height", 24.0);
+    assert_eq!(harness.state().render_size(), (32, 24));
     set(&mut harness, "render samples", 2.0);
     harness.get_by_label("Render").click();
     harness.run();

@@ -1,4 +1,4 @@
-//! The universal cover: every tile of the reflection group's tiling exactly once (DESIGN.md §6).
+//! The universal cover: every tile of the reflection group's tiling exactly once (ARCHITECTURE.md §6).
 //!
 //! Tiles are group elements g, reached breadth-first by word length; the neighbour of g across its
 //! wall t is g·r_t. Deduplication is combinatorial, with no coordinates compared. For each tile

@@ -1,4 +1,4 @@
-//! Objects in curved rooms (DESIGN.md §7): a Euclidean mesh is embedded at the origin through
+//! Objects in curved rooms (ARCHITECTURE.md §7): a Euclidean mesh is embedded at the origin through
 //! the exponential map — distances and bearings from its centre of mass are kept, its up axis
 //! becomes height — and then moved rigidly by an instance transform, an isometry of the plane
 //! with a height offset. Isometries are linear maps of ambient coordinates, so a moved object is

@@ -1,4 +1,4 @@
-//! Isometries of the three planes as 3×3 linear maps of ambient coordinates (DESIGN.md §3):
+//! Isometries of the three planes as 3×3 linear maps of ambient coordinates (ARCHITECTURE.md §3):
 //! rotations, translations, reflections and their compositions, written once for every κ.
 
 use glam::{DMat3, DVec3};

@@ -1,4 +1,4 @@
-//! The three constant-curvature planes, written once for κ ∈ {+1, 0, −1} (DESIGN.md §3).
+//! The three constant-curvature planes, written once for κ ∈ {+1, 0, −1} (ARCHITECTURE.md §3).
 //!
 //! Points have model coordinates z ∈ ℂ (stereographic plane, Euclidean plane, Poincaré disk,
 //! metric λ(z)|dz| with λ = 2/(1 + κ|z|²)) and ambient coordinates
@@ -244,7 +244,7 @@ impl Space {
     /// Scales a nonzero vector onto the model surface: p/|p| on the sphere, p/√(z² − x² − y²) on
     /// the hyperboloid (for a future-pointing timelike vector), p/p₃ in the plane w = 1. This is
     /// the central projection that makes straight segments of ℝ³ into geodesics, so that
-    /// `normalize_point(Σ wᵢ pᵢ)` is an intrinsically flat triangle (DESIGN.md §7).
+    /// `normalize_point(Σ wᵢ pᵢ)` is an intrinsically flat triangle (ARCHITECTURE.md §7).
     #[inline]
     pub fn normalize_point(&self, p: DVec3) -> DVec3 {
         if self.kappa == 0.0 {

@@ -93,7 +93,7 @@ fn fan_area(layout: &Layout) -> f64 {
         .sum()
 }
 
-/// Every invariant of DESIGN.md §5, for one layout.
+/// Every invariant of ARCHITECTURE.md §5, for one layout.
 fn check(layout: &Layout) {
     let space = layout.space();
     let name = layout.signature.to_string();

@@ -14,9 +14,8 @@
 //! into the pixels near it with the filter's weight at its position, and takes the weighted
 //! mean. With adaptive sampling that mean is biased: a pixel whose neighbour got ten times its
 //! samples takes ten times that neighbour's weight, so the bright side of an edge — a light's
-//! silhouette, which the adaptive sampler favours — bleeds into the dark side (measured: pixels
-//! next to a sphere light 3× too bright with light sampling, and the whole image of a test room
-//! 11 % too dark with brute force). Here a pixel's value is instead Σⱼ Kⱼ mⱼ / Σⱼ Kⱼ over the
+//! silhouette, which the adaptive sampler favours — bleeds into the dark side, several times too
+//! bright beside a sphere light. Here a pixel's value is instead Σⱼ Kⱼ mⱼ / Σⱼ Kⱼ over the
 //! pixels j around it that have samples, where mⱼ is the mean of pixel j's own samples and Kⱼ
 //! the filter's weight averaged over pixel j (what a sample there gets on average,
 //! [`PixelFilter::pixel_weights`]). Each mⱼ is an unbiased estimate of its pixel whatever its

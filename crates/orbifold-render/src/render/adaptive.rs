@@ -20,7 +20,7 @@
 //!   filter does on smooth surfaces), and a pixel gets as many samples in a round as its score
 //!   is multiples of the mean, up to [`MOST_SAMPLES_PER_ROUND`]. The samples go to what the
 //!   filter cannot smooth — the horizon's crowd of sub-pixel mirror images, silhouettes —
-//!   rather than to walls that it averages anyway (measured in `docs/benchmarks.md`).
+//!   rather than to walls that it averages anyway.
 //!
 //! Far mirror images crowd into a few pixels (the horizon of a hyperbolic room holds thousands
 //! of copies of the room); they get the samples, while smooth walls do not.

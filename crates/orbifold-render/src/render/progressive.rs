@@ -147,8 +147,8 @@ pub struct Progressive<'a> {
     /// ([`crate::radiance_cache`]).
     cache: Option<RadianceCache>,
     /// The last round's paths and what they add to the film, the guides and the cache, kept
-    /// from round to round: a round at 896² holds a few hundred megabytes, and fresh memory
-    /// each round cost more in page faults than the bookkeeping itself.
+    /// from round to round: a large round holds hundreds of megabytes, and fresh memory each
+    /// round costs more in page faults than the bookkeeping itself.
     buffers: RoundBuffers,
 }
 
@@ -298,7 +298,7 @@ impl<'a> Progressive<'a> {
             .collect_into_vec(&mut buffers.splats);
         // The film and the guides on one side, the radiance cache (its levels in parallel) on
         // the other: three independent sums, so that neither thread waits while the other
-        // adds. Each is summed in pixel order as before.
+        // adds. Each is summed in pixel order, so the image does not depend on the threads.
         let (film, guides, cache) = (&mut self.film, &mut self.guides, &mut self.cache);
         let (splats, samples, deposits) =
             (&buffers.splats, &buffers.samples, &mut buffers.deposits);

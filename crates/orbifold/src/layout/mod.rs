@@ -1,4 +1,4 @@
-//! The polygon of a kaleidoscopic signature, in model coordinates (seed chapter 6.1, DESIGN.md §5).
+//! The polygon of a kaleidoscopic signature, in model coordinates (seed chapter 6.1, ARCHITECTURE.md §5).
 //!
 //! Every construction works with walls as linear forms on ambient coordinates (see
 //! [`crate::space`]): a vertex is the intersection of two walls, an ideal vertex is exactly the

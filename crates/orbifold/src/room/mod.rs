@@ -1,7 +1,7 @@
 //! Room tessellation (seed chapter 6.2): the floor and ceiling of the prism polygon × [0, height]
 //! and its walls, meshed at a resolution given in intrinsic length.
 //!
-//! Meshes are made of intrinsically flat triangles (DESIGN.md §7): vertices are ambient points
+//! Meshes are made of intrinsically flat triangles (ARCHITECTURE.md §7): vertices are ambient points
 //! with heights, and every mesh edge is a geodesic. Points on a wall are linear combinations of
 //! points on it, so they lie on the wall to rounding. Two floor methods:
 //!
