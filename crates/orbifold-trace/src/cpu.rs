@@ -1,10 +1,10 @@
 //! What the processor can do beyond the baseline the crate is built for.
 //!
 //! Release builds target baseline x86-64 (SSE2), so that a binary runs on any x86-64 machine.
-//! The hottest loops, the BVH's four-lane bound tests and the light-image weights, run faster
-//! with AVX2 and FMA, where four f64 lanes fit one register (spherical rays 6-27 % faster per
-//! ray; docs/benchmarks.md): they are compiled twice, and [`has_avx2_fma`] picks the copy at
-//! run time ([`with_avx2`]). The loops over many values — a sphere light's triangles, the
+//! The hottest loops, the BVH's node tests (eight lanes) and the light-image weights, run faster
+//! with AVX2 and FMA, where eight f32 or four f64 lanes fit one register (docs/benchmarks.md has
+//! the figures): they are compiled twice, and [`has_avx2_fma`] picks the copy at run time
+//! ([`with_avx2`]). The loops over many values — a sphere light's triangles, the
 //! light images, a row of the denoiser — get a third copy for AVX-512 ([`with_avx512`]), where
 //! sixteen f32 or eight f64 lanes fit a register. Every copy computes the same IEEE operations
 //! in the same order, so renders are bit for bit the same on any path (tests compare them).
