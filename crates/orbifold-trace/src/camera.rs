@@ -1,4 +1,4 @@
-//! Cameras in the tangent space at the eye (DESIGN.md §8): a pinhole camera and an
+//! Cameras in the tangent space at the eye (ARCHITECTURE.md §8): a pinhole camera and an
 //! equirectangular panorama.
 //!
 //! The eye's orthonormal frame is (model +x, model +y, up); the model is conformal, so these

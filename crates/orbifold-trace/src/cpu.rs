@@ -1,12 +1,12 @@
 //! What the processor can do beyond the baseline the crate is built for.
 //!
 //! Release builds target baseline x86-64 (SSE2), so that a binary runs on any x86-64 machine.
-//! The hottest loops, the BVH's four-lane bound tests and the light-image weights, run faster
-//! with AVX2 and FMA, where four f64 lanes fit one register (spherical rays 6-27 % faster per
-//! ray; docs/benchmarks.md): they are compiled twice, and [`has_avx2_fma`] picks the copy at
-//! run time ([`with_avx2`]). The loops over many values — a sphere light's triangles, the
-//! light images, a row of the denoiser — get a third copy for AVX-512 ([`with_avx512`]), where
-//! sixteen f32 or eight f64 lanes fit a register. Every copy computes the same IEEE operations
+//! The hottest loops, the BVH's node tests (eight lanes) and the light-image weights, run faster
+//! with AVX2 and FMA, where eight f32 or four f64 lanes fit one register (docs/benchmarks.md has
+//! the figures): they are compiled twice, and [`has_avx2_fma`] picks the copy at run time
+//! ([`with_avx2`](crate::with_avx2)). The loops over many values — a sphere light's triangles,
+//! the light images, a row of the denoiser — get a third copy for AVX-512
+//! ([`with_avx512`](crate::with_avx512)), where sixteen f32 or eight f64 lanes fit a register. Every copy computes the same IEEE operations
 //! in the same order, so renders are bit for bit the same on any path (tests compare them).
 
 /// Whether this processor has AVX2 and FMA (x86-64 only; `false` elsewhere). The answer is
@@ -81,7 +81,7 @@ macro_rules! with_avx2 {
     }};
 }
 
-/// [`with_avx2`] with a third copy compiled for AVX-512, picked first where the processor has
+/// [`with_avx2`](crate::with_avx2) with a third copy compiled for AVX-512, picked first where the processor has
 /// it: for the loops over many values (a light's triangles, a row of pixels, the light
 /// images), which fill sixteen f32 or eight f64 lanes a register. The same IEEE operations in
 /// the same order as the other copies, so the results are the same bits.

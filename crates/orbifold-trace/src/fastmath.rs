@@ -1,9 +1,9 @@
 //! Elementary functions where libm's full accuracy costs more than the hot paths can afford:
-//! the bound test of the BVH calls a logarithm (H²) or an arc tangent (S²) for every node, and
-//! the per-point weights of light images a logarithm (H²) or an arc sine (S²) for every near
-//! image at every path vertex. Being straight-line
-//! code (selects, no branches), they also let four bound tests run side by side. Each has a stated absolute error bound, which
-//! the callers widen their bounds by (or, for sampling weights, which only need to agree with
+//! the BVH's disc test calls a logarithm (H²) or an arc tangent (S²) for every node it tests,
+//! and the per-point weights of light images a logarithm (H²) or an arc sine (S²) for every near
+//! image at every path vertex. Being straight-line code (selects, no branches), they also let a
+//! node's eight bound tests run side by side. Each has a stated absolute error bound, which the
+//! callers widen their bounds by (or, for sampling weights, which only need to agree with
 //! themselves, ignore).
 
 /// Absolute error bound of [`ln_fast`] and so of [`asinh_fast`] (what bounds are widened by).

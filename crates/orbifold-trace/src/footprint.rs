@@ -1,5 +1,5 @@
 //! A pixel's footprint carried along its camera ray through the mirrors, and what it does for
-//! the tiny mirror images of sphere lights (DESIGN.md §8; docs/rendering.md).
+//! the tiny mirror images of sphere lights (ARCHITECTURE.md §8; docs/rendering.md).
 //!
 //! In a mirror room the camera sees a crowd of light images, most of them smaller than a pixel
 //! (thousands of them in a hyperbolic room). A camera ray either hits such an image or misses it,

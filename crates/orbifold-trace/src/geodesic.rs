@@ -1,5 +1,5 @@
 //! Geodesics of the product spaces S²×ℝ, E²×ℝ and H²×ℝ, written once for every curvature
-//! (DESIGN.md §8).
+//! (ARCHITECTURE.md §8).
 //!
 //! A unit-speed geodesic from (p, h) with unit horizontal direction u and elevation α is
 //!
@@ -91,7 +91,7 @@ impl Ray {
 
     /// A ray from the model point `z` at `height` with bearing `yaw` (radians, counter-clockwise
     /// from the model's +x direction) and elevation `pitch` (radians), as cameras use them
-    /// (DESIGN.md §8).
+    /// (ARCHITECTURE.md §8).
     pub fn from_model(space: Space, z: Complex64, height: f64, yaw: f64, pitch: f64) -> Ray {
         let origin = space.to_ambient(z);
         let direction = space.model_tangent(z, Complex64::from_polar(1.0, yaw));

@@ -4,6 +4,9 @@
 //! - [`geodesic`]: a ray as a geodesic of the product space, in closed form.
 //! - [`room`]: the analytic mirror room — floor, ceiling and walls of the orbifold's polygon,
 //!   and reflection in a wall.
+//! - `ray_frame`: what the bound and triangle tests read of a ray, computed once a ray, and
+//!   where a ray's horizontal geodesic is inside a geodesic disc (the bound of nodes, objects
+//!   and triangles).
 //! - [`triangle`], [`shading_normal`]: intrinsically flat triangles of curved meshes and their
 //!   smooth shading normals.
 //! - [`accel`]: the bounding volume hierarchy for curved rays, and instances: meshes placed in
@@ -24,8 +27,11 @@ pub mod cpu;
 pub mod fastmath;
 pub mod footprint;
 pub mod geodesic;
+pub(crate) mod ray_frame;
 pub mod room;
 pub mod shading_normal;
+#[cfg(test)]
+mod test_util;
 pub mod tracer;
 pub mod triangle;
 

@@ -1,5 +1,5 @@
 //! Intrinsically flat triangles of S²×ℝ, E²×ℝ and H²×ℝ and their intersection with geodesic rays,
-//! written once for every curvature (DESIGN.md §7, §8).
+//! written once for every curvature (ARCHITECTURE.md §7, §8).
 //!
 //! A triangle with ambient vertices p₀, p₁, p₂ and heights h₀, h₁, h₂ is the set of points
 //! (normalise_κ(Σ wᵢ pᵢ), Σ wᵢ hᵢ) for barycentric w ≥ 0, Σ w = 1; for κ = 0 it is an ordinary
@@ -16,13 +16,12 @@
 //! footprint is exact (each edge form is a + b·T along the ray, T = S(σ)/C(σ), so three linear
 //! inequalities in T and one artanh each end; widened by 10⁻⁹ beyond the edges); on S² and for
 //! vertical triangles and rays it is the span inside the bounding disc (a closed form, as for the
-//! BVH). The exact span halves the Newton searches in `*444`'s dragon, where the disc's span
-//! often held a root of G on the triangle's surface continued beyond its edges.
+//! BVH). The exact span spares Newton searches: the disc's span often holds a root of G on the
+//! triangle's surface continued beyond its edges.
 //! First, a ray whose horizontal geodesic passes beside the footprint is rejected by three dot
 //! products: the geodesic is the model surface cut by the plane through the origin spanned by
 //! the ray's p and u, and the footprint lies in the cone of its vertices, so vertices all on one
-//! side of that plane (by a margin far above the edge slack below) cannot be met. About half of
-//! the triangle tests in the Table 8.1 rooms end there. A piece
+//! side of that plane (by a margin far above the edge slack below) cannot be met. A piece
 //! without a sign change of G is still searched when |G| falls at its start and rises at its end
 //! (a ray that crosses the curved surface twice).
 //!
@@ -42,9 +41,9 @@ use std::f64::consts::{PI, TAU};
 use glam::DVec3;
 use orbifold::space::Space;
 
-use crate::accel::{Disc, RayFrame};
 use crate::fastmath::{LN_FAST_ERROR, atan2_fast, ln_fast};
 use crate::geodesic::Ray;
+use crate::ray_frame::{Disc, RayFrame, disc_around};
 
 /// Barycentric slack at a hit, relative to the edge's scale: neighbouring triangles overlap by
 /// this much, so that no ray slips between them.
@@ -203,7 +202,7 @@ pub struct PreparedTriangle {
     heights: [f64; 3],
     /// pⱼ × pₖ for (i, j, k) cyclic: det M times the rows of M⁻¹.
     edges: [DVec3; 3],
-    /// Bounding disc of the vertices: centre and V(r) (see [`crate::bvh`]).
+    /// Bounding disc of the vertices: centre and V(r) (see [`crate::ray_frame`]).
     centre: DVec3,
     reach: f64,
     /// The largest Euclidean length of the ambient vertices (the scale of the side test).
@@ -216,7 +215,7 @@ pub struct PreparedTriangle {
 }
 
 /// How far beyond its edges a triangle's footprint is searched for hits, as the bounding discs
-/// are widened (`crate::accel::disc_around`): far above the slack that [`PreparedTriangle`]'s
+/// are widened ([`disc_around`]): far above the slack that [`PreparedTriangle`]'s
 /// inside test allows.
 const FOOTPRINT_SLACK: f64 = 1e-9;
 
@@ -238,7 +237,7 @@ impl PreparedTriangle {
         if area2.is_nan() || area2 <= 1e-24 * g11 * g22 {
             return None;
         }
-        let (centre, reach) = crate::accel::disc_around(space, &points)?;
+        let (centre, reach) = disc_around(space, &points)?;
         let scale = points.iter().map(|p| p.length()).fold(0.0, f64::max);
         // det M = p₀·(p₁ × p₂), far from its rounding error, orients the footprint; its edge
         // forms are turned so that the footprint is where all three are ≥ 0.

@@ -1,6 +1,6 @@
-//! An independent check of the curved-ray tracer (DESIGN.md §8): rays through mirror rooms are
-//! integrated numerically in *model* coordinates and compared hit by hit with `Tracer::follow`,
-//! which works in closed form in ambient coordinates.
+//! An independent check of the curved-ray tracer (ARCHITECTURE.md §8): rays through mirror rooms
+//! are integrated numerically in *model* coordinates and compared hit by hit with
+//! `Tracer::follow`, which works in closed form in ambient coordinates.
 //!
 //! The product metric in model coordinates is ds² = λ(z)²|dz|² + dh², λ = e^φ = 2/(1 + κ|z|²).
 //! For a conformal metric e^{2φ}δ the Christoffel symbols are

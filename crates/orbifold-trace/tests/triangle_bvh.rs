@@ -1,5 +1,5 @@
-//! Intrinsically flat triangles, the disc BVH and instances (DESIGN.md §7, §8), in S²×ℝ, E²×ℝ and
-//! H²×ℝ, checked against independent references:
+//! Intrinsically flat triangles, the BVH and instances (ARCHITECTURE.md §7, §8), in S²×ℝ, E²×ℝ
+//! and H²×ℝ, checked against independent references:
 //!
 //! - a brute-force search along the ray (dense sampling in arc length of the height difference
 //!   between the ray and the surface over the footprint, finer near the footprint, refined by

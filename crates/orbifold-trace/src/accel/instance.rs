@@ -1,6 +1,7 @@
-//! Objects as instances (DESIGN.md §7, §8): a mesh's BVH, built once at the origin, placed by an
-//! isometry of the plane and a height offset. A ray is moved into the object's frame (isometries
-//! are linear in ambient coordinates and keep arc length), so moving an instance rebuilds nothing.
+//! Objects as instances (ARCHITECTURE.md §7, §8): a mesh's BVH, built once at the origin, placed
+//! by an isometry of the plane and a height offset. A ray is moved into the object's frame
+//! (isometries are linear in ambient coordinates and keep arc length), so moving an instance
+//! rebuilds nothing.
 
 use std::sync::Arc;
 
@@ -9,8 +10,10 @@ use orbifold::embed::Placement;
 use orbifold::isometry::Isometry;
 use orbifold::space::Space;
 
-use crate::accel::{Bound, Bvh, RayFrame};
+use super::Bvh;
+use super::node::Bound;
 use crate::geodesic::Ray;
+use crate::ray_frame::RayFrame;
 use crate::triangle::TriangleHit;
 
 /// A placed copy of a mesh: its BVH (shared), the isometry that takes object coordinates to world
