@@ -1,6 +1,10 @@
 //! The room of a scene as geometry: floor, ceiling, walls split into their mirrors and plain
 //! parts, and the objects, each an intrinsically flat triangle mesh in the room's plane
-//! (DESIGN.md §7) — what exports, the preview and the tracer's mesh path start from.
+//! (ARCHITECTURE.md §7) — what exports, the preview and the tracer's mesh path start from.
+//!
+//! A mesh is embedded in the room in one place, [`embed_object`]: the scene's objects (through
+//! [`Scene::embedded_object`], for the tracer, the preview and the exports) and the meshes of
+//! area lights (in `orbifold-render`) alike.
 
 use std::path::Path;
 
@@ -11,6 +15,7 @@ use orbifold::cover::Tile;
 use orbifold::embed::{Embedded, Placement, centre_of_mass, embed, place};
 use orbifold::room::wall::WallRect;
 use orbifold::room::{FloorMethod, RoomMesher, RoomOptions, Surface};
+use orbifold::space::Space;
 
 use crate::document::{Color, Material, MetalName, Mirror, MirrorDefault, Scene, Tessellation};
 use crate::mesh::TriangleMesh;
@@ -300,32 +305,19 @@ impl Scene {
         parts
     }
 
-    /// Object `i` embedded at its centre of mass and scaled to its size, not yet placed: its
-    /// points, heights and triangles, and the placement the scene gives it. Placing is an
-    /// isometry and a height offset ([`Placement::isometry`]), so a moved object needs no new
-    /// embedding.
+    /// Object `i` embedded at its centre of mass and scaled to its size ([`embed_object`] with
+    /// [`Fit::Size`]), not yet placed: its points, heights and triangles, and the placement the
+    /// scene gives it. Placing is an isometry and a height offset ([`Placement::isometry`]), so
+    /// a moved object needs no new embedding.
     pub fn embedded_object(
         &self,
         layout: &Layout,
         i: usize,
         base: Option<&Path>,
     ) -> Result<(Embedded, Vec<[u32; 3]>, Placement), String> {
-        let object = &self.objects[i];
         let mesh = self.object_mesh(i, base)?;
-        let (lo, hi) = mesh
-            .bounds()
-            .ok_or_else(|| format!("objects[{i}]: the mesh is empty"))?;
-        let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-        if !(extent.is_finite() && extent > 0.0) {
-            return Err(format!("objects[{i}]: the mesh has no extent"));
-        }
-        let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
-        let embedded = embed(
-            layout.space(),
-            &mesh.positions,
-            centre,
-            object.size / extent,
-        );
+        let embedded = embed_object(layout.space(), &mesh, Fit::Size(self.objects[i].size))
+            .map_err(|e| format!("objects[{i}]: {e}"))?;
         Ok((embedded, mesh.triangles, self.object_placement(i)))
     }
 
@@ -357,6 +349,66 @@ impl Scene {
             },
         })
     }
+}
+
+/// How [`embed_object`] sets a mesh's object coordinates into the room.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fit {
+    /// About the mesh's centre of mass ([`centre_of_mass`]), scaled so that its largest extent
+    /// along the object axes is this size: the scene's objects and sphere lights.
+    Size(f64),
+    /// As modelled: about the origin of the object coordinates, unscaled. For meshes built at
+    /// their size about the point they stand at (rectangle lights).
+    AsModelled,
+}
+
+/// A triangle mesh in object coordinates (Y up) embedded at the origin of the room's plane,
+/// not yet placed; `fit` says about which point and at what scale. [`embed`] keeps distances
+/// and bearings from that point and makes Y the height, the lowest vertex at 0. Placing the
+/// result is an isometry and a height offset ([`Placement::isometry`]), so a moved object needs
+/// no new embedding.
+///
+/// Every mesh of a scene is embedded here: the objects ([`Scene::embedded_object`], which the
+/// tracer and the preview call) and the sphere and rectangle lights of `orbifold-render`.
+///
+/// # Errors
+///
+/// With [`Fit::Size`], when the mesh is empty or has no finite, positive extent.
+///
+/// ```
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_scene::geometry::{Fit, embed_object};
+/// use orbifold_scene::mesh::procedural::cube;
+///
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// let cube = cube(2.0);
+/// // Scaled to an edge of 0.5 about its centre: it stands at height 0 and is 0.5 tall.
+/// let embedded = embed_object(h2, &cube, Fit::Size(0.5))?;
+/// assert_eq!(embedded.points.len(), cube.positions.len());
+/// let top = embedded.heights.iter().copied().fold(0.0, f64::max);
+/// assert!((top - 0.5).abs() < 1e-12);
+/// // As modelled, its edge stays 2.
+/// let modelled = embed_object(h2, &cube, Fit::AsModelled)?;
+/// let top = modelled.heights.iter().copied().fold(0.0, f64::max);
+/// assert!((top - 2.0).abs() < 1e-12);
+/// # Ok::<(), String>(())
+/// ```
+pub fn embed_object(space: Space, mesh: &TriangleMesh, fit: Fit) -> Result<Embedded, String> {
+    let (centre, scale) = match fit {
+        Fit::Size(size) => {
+            let (lo, hi) = mesh.bounds().ok_or("the mesh is empty")?;
+            let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+            if !(extent.is_finite() && extent > 0.0) {
+                return Err("the mesh has no extent".into());
+            }
+            (
+                centre_of_mass(&mesh.positions, &mesh.triangles),
+                size / extent,
+            )
+        }
+        Fit::AsModelled => (DVec3::ZERO, 1.0),
+    };
+    Ok(embed(space, &mesh.positions, centre, scale))
 }
 
 /// One colour that stands for a material in formats without textures.

@@ -9,9 +9,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::DVec3;
-use num_complex::Complex64;
 use orbifold::Layout;
-use orbifold::embed::{Placement, centre_of_mass, embed};
 use orbifold::space::Space;
 use orbifold_scene::{Color, Scene};
 
@@ -157,25 +155,11 @@ impl Tracer {
         let mut instances = Vec::with_capacity(scene.objects.len());
         let mut object_names = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {
-            let mesh = scene.object_mesh(i, base)?;
-            let (lo, hi) = mesh
-                .bounds()
-                .ok_or_else(|| format!("objects[{i}]: the mesh is empty"))?;
-            let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-            if !(extent.is_finite() && extent > 0.0) {
-                return Err(format!("objects[{i}]: the mesh has no extent"));
-            }
-            let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
-            let embedded = embed(space, &mesh.positions, centre, object.size / extent);
-            let mut bvh = Bvh::build(space, &embedded.points, &embedded.heights, &mesh.triangles);
+            let (embedded, triangles, placement) = scene.embedded_object(&layout, i, base)?;
+            let mut bvh = Bvh::build(space, &embedded.points, &embedded.heights, &triangles);
             if object.crease > 0.0 {
                 bvh = bvh.with_smooth_normals(space, object.crease.to_radians());
             }
-            let placement = Placement {
-                at: Complex64::new(object.at[0], object.at[1]),
-                height: object.height,
-                yaw: object.yaw.to_radians(),
-            };
             instances.push(Instance::from_placement(space, Arc::new(bvh), &placement));
             object_names.push(object.name.clone().unwrap_or_else(|| i.to_string()));
         }
