@@ -6,7 +6,6 @@ use std::str::FromStr;
 use num_rational::BigRational;
 
 use crate::euler::{EulerCharacteristic, Geometry};
-use crate::groups::{self, SymmetryGroup};
 use crate::necklace;
 use crate::notation::{ParseError, parse_symbol};
 use crate::order::{Order, rational_to_u128};
@@ -235,12 +234,6 @@ impl OrbifoldSymbol {
                 usize::try_from(dim).unwrap_or(0)
             }
         }
-    }
-
-    /// The classical name of the symmetry group: one of the 17 wallpaper groups, the 7 frieze
-    /// groups, or a spherical point group (Schoenflies notation), when the orbifold is one.
-    pub fn symmetry_group(&self) -> Option<SymmetryGroup> {
-        groups::identify(&self.canonical())
     }
 
     /// One line per feature, in Conway's terms, for explanations.

@@ -227,3 +227,11 @@ fn spherical(s: &OrbifoldSymbol) -> Option<SymmetryGroup> {
         _ => return None,
     })
 }
+
+impl OrbifoldSymbol {
+    /// The classical name of the symmetry group: one of the 17 wallpaper groups, the 7 frieze
+    /// groups, or a spherical point group (Schoenflies notation), when the orbifold is one.
+    pub fn symmetry_group(&self) -> Option<SymmetryGroup> {
+        identify(&self.canonical())
+    }
+}

@@ -11,7 +11,6 @@ use crate::euler::{EulerCharacteristic, Geometry};
 use crate::necklace;
 use crate::notation::{ParseError, ParseErrorKind, parse_symbol};
 use crate::order::{Order, rational_to_u128};
-use crate::table::{self, Family};
 
 /// Whether a signature names an orbifold, a bad orbifold, or a room that is not an orbifold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -299,15 +298,6 @@ impl Signature {
         } else {
             0
         }
-    }
-
-    /// The family of the seed's Table 4.1 that this good orbifold belongs to (canonical form taken
-    /// internally); `None` for bad orbifolds and non-orbifold rooms.
-    pub fn family(&self) -> Option<&'static Family> {
-        if self.kind() != Kind::Orbifold {
-            return None;
-        }
-        table::family_of(&self.canonical())
     }
 }
 

@@ -3,7 +3,7 @@
 
 use crate::euler::Geometry;
 use crate::order::Order;
-use crate::signature::Signature;
+use crate::signature::{Kind, Signature};
 
 /// Which rows of the table a family occupies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -241,5 +241,16 @@ pub fn pattern_in_row(family: &Family, walls: usize) -> String {
             )
         }
         Walls::Exactly(_) => family.pattern.to_string(),
+    }
+}
+
+impl Signature {
+    /// The family of the seed's Table 4.1 that this good orbifold belongs to (canonical form taken
+    /// internally); `None` for bad orbifolds and non-orbifold rooms.
+    pub fn family(&self) -> Option<&'static Family> {
+        if self.kind() != Kind::Orbifold {
+            return None;
+        }
+        family_of(&self.canonical())
     }
 }
