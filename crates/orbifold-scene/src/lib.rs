@@ -19,6 +19,7 @@ pub mod export;
 pub mod file;
 pub mod geometry;
 pub mod mesh;
+pub mod part;
 pub mod texture;
 pub mod validate;
 

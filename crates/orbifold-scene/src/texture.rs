@@ -15,7 +15,7 @@ use orbifold::room::RoomMesher;
 use orbifold::space::Space;
 
 use crate::document::{Color, Coordinates, Material, Scene};
-use crate::geometry::{Part, PartKind};
+use crate::part::{Part, PartKind};
 
 /// The image of a textured part.
 #[derive(Clone, Debug, PartialEq)]
