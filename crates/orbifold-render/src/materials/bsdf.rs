@@ -30,41 +30,25 @@
 //!
 //! Microfacet lobes use the GGX (Trowbridge–Reitz) distribution with roughness α (the GGX
 //! α itself, not its square root), clamped to [0, 1]; below [`DELTA_ROUGHNESS`] a lobe is a
-//! perfect mirror. Masking-shadowing is Smith's height-correlated form, and directions are
-//! drawn from the distribution of visible normals (Heitz 2018, "Sampling the GGX Distribution
-//! of Visible Normals", JCGT 7(4)).
-
-use std::f64::consts::{FRAC_1_PI, PI};
+//! perfect mirror.
+//!
+//! This module holds what the integrator sees, the [`Bsdf`] enum and [`BsdfSample`]; `Bsdf`'s
+//! methods dispatch to a file per kind of surface, as in pbrt-v4 (see [`crate::materials`]).
 
 use glam::DVec3;
 
-use crate::sampler::cosine_hemisphere;
+use super::microfacet::{ggx_alpha, is_effectively_smooth};
+use super::{conductor, dielectric, diffuse, plastic};
 
 pub use orbifold_scene::color::Rgb;
+
+pub use super::fresnel::{fresnel_conductor, fresnel_dielectric};
+pub use super::microfacet::DELTA_ROUGHNESS;
+pub use super::plastic::PLASTIC_ETA;
 
 /// The marble texture ([`crate::textures::marble`]), which gives a diffuse BSDF its albedo.
 #[doc(no_inline)]
 pub use crate::textures::marble;
-
-/// Microfacet roughness α below which a lobe is treated as a perfect (delta) mirror.
-///
-/// ```
-/// use orbifold_render::materials::bsdf::{Bsdf, DELTA_ROUGHNESS};
-///
-/// assert!(Bsdf::gold(0.5 * DELTA_ROUGHNESS).is_delta());
-/// assert!(!Bsdf::gold(2.0 * DELTA_ROUGHNESS).is_delta());
-/// ```
-pub const DELTA_ROUGHNESS: f64 = 1e-3;
-
-/// The index of refraction used by [`Bsdf::plastic`] for the dielectric coat.
-///
-/// ```
-/// use orbifold_render::materials::bsdf::{Bsdf, PLASTIC_ETA};
-///
-/// let Bsdf::Plastic { eta, .. } = Bsdf::plastic([0.5; 3], 0.2) else { unreachable!() };
-/// assert_eq!(eta, PLASTIC_ETA);
-/// ```
-pub const PLASTIC_ETA: f64 = 1.5;
 
 /// A material's scattering function, in the local shading frame (see the module docs).
 ///
@@ -289,7 +273,7 @@ impl Bsdf {
         match *self {
             Bsdf::Diffuse { .. } | Bsdf::Plastic { .. } => false,
             Bsdf::Dielectric { .. } => true,
-            Bsdf::Conductor { roughness, .. } => is_smooth(alpha(roughness)),
+            Bsdf::Conductor { roughness, .. } => is_effectively_smooth(ggx_alpha(roughness)),
         }
     }
 
@@ -332,7 +316,7 @@ impl Bsdf {
     pub fn albedo(&self) -> Rgb {
         match *self {
             Bsdf::Diffuse { albedo } => nonneg(albedo),
-            Bsdf::Plastic { albedo, .. } => unit(albedo),
+            Bsdf::Plastic { albedo, .. } => saturate(albedo),
             Bsdf::Dielectric { tint, .. } => nonneg(tint),
             Bsdf::Conductor { eta, k, .. } => fresnel_conductor(1.0, eta, k),
         }
@@ -366,51 +350,16 @@ impl Bsdf {
     /// assert_eq!(Bsdf::dielectric(1.5).eval(wo, -wi), [0.0; 3]); // delta only
     /// ```
     pub fn eval(&self, wo: DVec3, wi: DVec3) -> Rgb {
-        let f = match *self {
-            Bsdf::Dielectric { .. } => return [0.0; 3],
-            Bsdf::Diffuse { albedo } => {
-                if !upper(wo, wi) {
-                    return [0.0; 3];
-                }
-                scale(nonneg(albedo), FRAC_1_PI)
-            }
-            Bsdf::Conductor { eta, k, roughness } => {
-                let a = alpha(roughness);
-                if is_smooth(a) || !upper(wo, wi) {
-                    return [0.0; 3];
-                }
-                let Some(h) = (wo + wi).try_normalize() else {
-                    return [0.0; 3];
-                };
-                let ggx = Ggx { alpha: a };
-                let s = ggx.d(h) * ggx.g2(wo, wi) / (4.0 * wo.z * wi.z);
-                scale(fresnel_conductor(wo.dot(h), eta, k), s)
-            }
+        match *self {
+            Bsdf::Dielectric { .. } => [0.0; 3],
+            Bsdf::Diffuse { albedo } => diffuse::eval(albedo, wo, wi),
+            Bsdf::Conductor { eta, k, roughness } => conductor::eval(eta, k, roughness, wo, wi),
             Bsdf::Plastic {
                 albedo,
                 roughness,
                 eta,
-            } => {
-                if !upper(wo, wi) {
-                    return [0.0; 3];
-                }
-                let plastic = PlasticParts::new(albedo, roughness, eta);
-                let mut f = plastic.diffuse(wo.z, wi.z);
-                if !is_smooth(plastic.alpha)
-                    && let Some(h) = (wo + wi).try_normalize()
-                {
-                    let ggx = Ggx {
-                        alpha: plastic.alpha,
-                    };
-                    let spec =
-                        ggx.d(h) * ggx.g2(wo, wi) * fresnel_dielectric(wo.dot(h), plastic.eta)
-                            / (4.0 * wo.z * wi.z);
-                    f = f.map(|c| c + spec);
-                }
-                f
-            }
-        };
-        sanitize(f)
+            } => plastic::eval(albedo, roughness, eta, wo, wi),
+        }
     }
 
     /// The solid-angle density with which [`Bsdf::sample`] produces `wi` from `wo` through
@@ -428,44 +377,16 @@ impl Bsdf {
     /// assert_eq!(Bsdf::dielectric(1.5).pdf(DVec3::Z, -DVec3::Z), 0.0);
     /// ```
     pub fn pdf(&self, wo: DVec3, wi: DVec3) -> f64 {
-        let p = match *self {
+        match *self {
             Bsdf::Dielectric { .. } => 0.0,
-            Bsdf::Diffuse { .. } => {
-                if !upper(wo, wi) {
-                    return 0.0;
-                }
-                wi.z * FRAC_1_PI
-            }
-            Bsdf::Conductor { roughness, .. } => {
-                let a = alpha(roughness);
-                if is_smooth(a) || !upper(wo, wi) {
-                    return 0.0;
-                }
-                Ggx { alpha: a }.pdf_reflect(wo, wi)
-            }
+            Bsdf::Diffuse { .. } => diffuse::pdf(wo, wi),
+            Bsdf::Conductor { roughness, .. } => conductor::pdf(roughness, wo, wi),
             Bsdf::Plastic {
                 albedo,
                 roughness,
                 eta,
-            } => {
-                if !upper(wo, wi) {
-                    return 0.0;
-                }
-                let plastic = PlasticParts::new(albedo, roughness, eta);
-                let p_spec = plastic.specular_probability(wo.z);
-                let diffuse = (1.0 - p_spec) * wi.z * FRAC_1_PI;
-                if is_smooth(plastic.alpha) {
-                    diffuse
-                } else {
-                    let spec = Ggx {
-                        alpha: plastic.alpha,
-                    }
-                    .pdf_reflect(wo, wi);
-                    p_spec * spec + diffuse
-                }
-            }
-        };
-        if p.is_finite() && p > 0.0 { p } else { 0.0 }
+            } => plastic::pdf(albedo, roughness, eta, wo, wi),
+        }
     }
 
     /// Draws an incident direction for the outgoing direction `wo` from the uniforms `u` (for
@@ -498,69 +419,14 @@ impl Bsdf {
     /// ```
     pub fn sample(&self, wo: DVec3, u: (f64, f64), uc: f64) -> Option<BsdfSample> {
         let sample = match *self {
-            Bsdf::Diffuse { albedo } => {
-                if wo.z <= 0.0 {
-                    return None;
-                }
-                let wi = cosine_hemisphere(u);
-                if wi.z <= 0.0 {
-                    return None;
-                }
-                BsdfSample {
-                    wi,
-                    weight: nonneg(albedo),
-                    pdf: wi.z * FRAC_1_PI,
-                    delta: false,
-                }
-            }
-            Bsdf::Dielectric { eta, tint } => sample_dielectric(wo, eta, tint, uc)?,
-            Bsdf::Conductor { eta, k, roughness } => {
-                if wo.z <= 0.0 {
-                    return None;
-                }
-                let a = alpha(roughness);
-                if is_smooth(a) {
-                    BsdfSample {
-                        wi: mirror(wo),
-                        weight: fresnel_conductor(wo.z, eta, k),
-                        pdf: 1.0,
-                        delta: true,
-                    }
-                } else {
-                    let h = Ggx { alpha: a }.sample_visible_normal(wo, u)?;
-                    self.sample_from(wo, reflect(wo, h))?
-                }
-            }
+            Bsdf::Diffuse { albedo } => diffuse::sample(albedo, wo, u)?,
+            Bsdf::Dielectric { eta, tint } => dielectric::sample(wo, eta, tint, uc)?,
+            Bsdf::Conductor { eta, k, roughness } => conductor::sample(eta, k, roughness, wo, u)?,
             Bsdf::Plastic {
                 albedo,
                 roughness,
                 eta,
-            } => {
-                if wo.z <= 0.0 {
-                    return None;
-                }
-                let plastic = PlasticParts::new(albedo, roughness, eta);
-                let p_spec = plastic.specular_probability(wo.z);
-                if uc < p_spec {
-                    if is_smooth(plastic.alpha) {
-                        let reflectance = fresnel_dielectric(wo.z, plastic.eta) / p_spec;
-                        BsdfSample {
-                            wi: mirror(wo),
-                            weight: [reflectance; 3],
-                            pdf: p_spec,
-                            delta: true,
-                        }
-                    } else {
-                        let ggx = Ggx {
-                            alpha: plastic.alpha,
-                        };
-                        let h = ggx.sample_visible_normal(wo, u)?;
-                        self.sample_from(wo, reflect(wo, h))?
-                    }
-                } else {
-                    self.sample_from(wo, cosine_hemisphere(u))?
-                }
-            }
+            } => plastic::sample(albedo, roughness, eta, wo, u, uc)?,
         };
         let ok = sample.wi.is_finite()
             && sample.pdf.is_finite()
@@ -568,19 +434,27 @@ impl Bsdf {
             && sample.weight.iter().all(|w| w.is_finite() && *w >= 0.0);
         ok.then_some(sample)
     }
+}
 
-    /// A non-delta sample for a direction `wi` already drawn: weight = f·cos/pdf with the
-    /// full mixture pdf.
-    fn sample_from(&self, wo: DVec3, wi: DVec3) -> Option<BsdfSample> {
+impl BsdfSample {
+    /// The non-delta sample of a direction `wi` that a lobe has drawn, given the whole BSDF's
+    /// density `pdf` and value `f` at a direction. The weight f·cos/pdf uses the full mixture
+    /// density, not the drawing lobe's, so that the lobes of a material together make one
+    /// estimator.
+    pub(super) fn from_direction(
+        wi: DVec3,
+        pdf: impl FnOnce(DVec3) -> f64,
+        f: impl FnOnce(DVec3) -> Rgb,
+    ) -> Option<BsdfSample> {
         let wi = wi.try_normalize()?;
         if wi.z <= 0.0 {
             return None;
         }
-        let pdf = self.pdf(wo, wi);
+        let pdf = pdf(wi);
         if pdf <= 0.0 {
             return None;
         }
-        let f = self.eval(wo, wi);
+        let f = f(wi);
         Some(BsdfSample {
             wi,
             weight: sanitize(scale(f, wi.z / pdf)),
@@ -590,330 +464,47 @@ impl Bsdf {
     }
 }
 
-/// Samples the smooth dielectric (see [`Bsdf::sample`]).
-fn sample_dielectric(wo: DVec3, eta: f64, tint: Rgb, uc: f64) -> Option<BsdfSample> {
-    let eta = if eta.is_finite() && eta > 0.0 {
-        eta
-    } else {
-        1.0
-    };
-    let cos_o = wo.z.clamp(-1.0, 1.0);
-    let f = fresnel_dielectric(cos_o, eta);
-    if uc < f || f >= 1.0 {
-        return Some(BsdfSample {
-            wi: mirror(wo),
-            weight: [1.0; 3],
-            pdf: f,
-            delta: true,
-        });
-    }
-    // Refraction: η′ is the index ratio across the interface as seen from `wo`'s side, and
-    // the normal is flipped to `wo`'s side.
-    let (etap, n, cos_i) = if cos_o >= 0.0 {
-        (eta, DVec3::Z, cos_o)
-    } else {
-        (1.0 / eta, -DVec3::Z, -cos_o)
-    };
-    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (etap * etap);
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
-    let wi = (-wo / etap + (cos_i / etap - cos_t) * n).try_normalize()?;
-    Some(BsdfSample {
-        wi,
-        weight: scale(nonneg(tint), 1.0 / (etap * etap)),
-        pdf: 1.0 - f,
-        delta: true,
-    })
+/// A density as [`Bsdf::pdf`] returns it: non-finite and negative values read as 0.
+pub(super) fn density(p: f64) -> f64 {
+    if p.is_finite() && p > 0.0 { p } else { 0.0 }
 }
 
-/// The Fresnel reflectance of a smooth dielectric interface for unpolarised light.
-///
-/// `cos_i` is the cosine of the angle between the incident direction and the normal, and
-/// `eta` the relative index (inside over outside). A negative `cos_i` means the light arrives
-/// from inside, and then the index ratio is inverted. Returns 1 under total internal
-/// reflection and at grazing incidence. `eta` not positive and finite is read as 1.
-///
-/// ```
-/// use orbifold_render::materials::bsdf::fresnel_dielectric;
-///
-/// let r0 = fresnel_dielectric(1.0, 1.5);
-/// assert!((r0 - 0.04).abs() < 1e-12); // ((η − 1)/(η + 1))²
-/// assert_eq!(fresnel_dielectric(0.0, 1.5), 1.0);
-/// assert_eq!(fresnel_dielectric(-0.3, 1.5), 1.0); // total internal reflection
-/// ```
-pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
-    let mut eta = if eta.is_finite() && eta > 0.0 {
-        eta
-    } else {
-        1.0
-    };
-    let mut cos_i = if cos_i.is_nan() {
-        0.0
-    } else {
-        cos_i.clamp(-1.0, 1.0)
-    };
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-    }
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
-    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    let r = 0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
-    if r.is_finite() {
-        r.clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
-}
+// Directions in the local shading frame (+z the normal), shared by the lobes.
 
-/// The Fresnel reflectance of a conductor with complex index η + ik (relative to the outside
-/// medium) for unpolarised light, per channel: the exact formula (pbrt-v3's `FrConductor`).
-///
-/// `cos_i` is the cosine of the incidence angle; its absolute value is used (a conductor has
-/// no inside). Each channel lies in [0, 1] and tends to 1 at grazing incidence. With k = 0 it
-/// coincides with [`fresnel_dielectric`].
-///
-/// ```
-/// use orbifold_render::materials::bsdf::fresnel_conductor;
-///
-/// let (eta, k) = ([0.2, 0.9, 1.1], [3.9, 2.5, 2.1]);
-/// let r = fresnel_conductor(1.0, eta, k);
-/// // Normal incidence: ((η − 1)² + k²) / ((η + 1)² + k²).
-/// let expected = (0.8f64.powi(2) + 3.9f64.powi(2)) / (1.2f64.powi(2) + 3.9f64.powi(2));
-/// assert!((r[0] - expected).abs() < 1e-12);
-/// assert!(fresnel_conductor(0.0, eta, k).iter().all(|&x| (x - 1.0).abs() < 1e-12));
-/// ```
-pub fn fresnel_conductor(cos_i: f64, eta: Rgb, k: Rgb) -> Rgb {
-    let cos_i = if cos_i.is_nan() {
-        0.0
-    } else {
-        cos_i.abs().min(1.0)
-    };
-    std::array::from_fn(|c| fresnel_conductor_channel(cos_i, eta[c], k[c]))
-}
-
-/// One channel of [`fresnel_conductor`], for `cos_i` in [0, 1].
-fn fresnel_conductor_channel(cos_i: f64, eta: f64, k: f64) -> f64 {
-    let eta = if eta.is_finite() { eta.abs() } else { 1.0 };
-    let k = if k.is_finite() { k.abs() } else { 0.0 };
-    let cos2 = cos_i * cos_i;
-    let sin2 = (1.0 - cos2).max(0.0);
-    let eta2 = eta * eta;
-    let k2 = k * k;
-    let t0 = eta2 - k2 - sin2;
-    let a2_plus_b2 = (t0 * t0 + 4.0 * eta2 * k2).sqrt();
-    let t1 = a2_plus_b2 + cos2;
-    let a = (0.5 * (a2_plus_b2 + t0)).max(0.0).sqrt();
-    let t2 = 2.0 * cos_i * a;
-    let rs = if t1 + t2 > 0.0 {
-        (t1 - t2) / (t1 + t2)
-    } else {
-        1.0
-    };
-    let t3 = cos2 * a2_plus_b2 + sin2 * sin2;
-    let t4 = t2 * sin2;
-    let rp = if t3 + t4 > 0.0 {
-        rs * (t3 - t4) / (t3 + t4)
-    } else {
-        rs
-    };
-    let r = 0.5 * (rp + rs);
-    if r.is_finite() {
-        r.clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
-}
-
-/// The isotropic GGX (Trowbridge–Reitz) microfacet distribution with Smith masking.
-#[derive(Clone, Copy, Debug)]
-struct Ggx {
-    alpha: f64,
-}
-
-impl Ggx {
-    /// The distribution of normals D(h) for a unit `h` (zero below the surface).
-    fn d(&self, h: DVec3) -> f64 {
-        if h.z <= 0.0 {
-            return 0.0;
-        }
-        let a2 = self.alpha * self.alpha;
-        // 1 + tan²θ·α² times cos²θ: sin²θ + α² cos²θ, positive for α > 0.
-        let t = h.x * h.x + h.y * h.y + a2 * h.z * h.z;
-        let d = a2 / (PI * t * t);
-        if d.is_finite() { d } else { 0.0 }
-    }
-
-    /// Smith's Λ(w) = (√(1 + α² tan²θ) − 1) / 2, in a form without cancellation.
-    fn lambda(&self, w: DVec3) -> f64 {
-        let s2 = w.x * w.x + w.y * w.y;
-        if s2 == 0.0 {
-            return 0.0;
-        }
-        let t = self.alpha * self.alpha * s2 / (w.z * w.z);
-        if !t.is_finite() {
-            return f64::INFINITY;
-        }
-        t / (2.0 * ((1.0 + t).sqrt() + 1.0))
-    }
-
-    /// The masking function G₁(w) = 1 / (1 + Λ(w)).
-    fn g1(&self, w: DVec3) -> f64 {
-        1.0 / (1.0 + self.lambda(w))
-    }
-
-    /// Height-correlated masking-shadowing G₂(wo, wi) = 1 / (1 + Λ(wo) + Λ(wi)).
-    fn g2(&self, wo: DVec3, wi: DVec3) -> f64 {
-        1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
-    }
-
-    /// The solid-angle density of `wi` = reflect(`wo`, h) with h drawn from the visible normals
-    /// of `wo`: D_wo(h) / (4 wo·h) = G₁(wo) D(h) / (4 cos θo). Both must be above the surface.
-    fn pdf_reflect(&self, wo: DVec3, wi: DVec3) -> f64 {
-        let Some(h) = (wo + wi).try_normalize() else {
-            return 0.0;
-        };
-        if wo.dot(h) <= 0.0 {
-            return 0.0;
-        }
-        self.g1(wo) * self.d(h) / (4.0 * wo.z)
-    }
-
-    /// A microfacet normal drawn from the distribution of normals visible from `wo` (Heitz
-    /// 2018, listing 1). `wo.z > 0`.
-    fn sample_visible_normal(&self, wo: DVec3, u: (f64, f64)) -> Option<DVec3> {
-        let a = self.alpha;
-        // Stretch to the hemisphere configuration.
-        let vh = DVec3::new(a * wo.x, a * wo.y, wo.z).try_normalize()?;
-        let lensq = vh.x * vh.x + vh.y * vh.y;
-        let t1_axis = if lensq > 0.0 {
-            DVec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt()
-        } else {
-            DVec3::X
-        };
-        let t2_axis = vh.cross(t1_axis);
-        // Uniform point on the projected disk, warped to the visible half.
-        let r = u.0.clamp(0.0, 1.0).sqrt();
-        let phi = 2.0 * PI * u.1;
-        let t1 = r * phi.cos();
-        let mut t2 = r * phi.sin();
-        let s = 0.5 * (1.0 + vh.z);
-        t2 = (1.0 - s) * (1.0 - t1 * t1).max(0.0).sqrt() + s * t2;
-        let nh = t1 * t1_axis + t2 * t2_axis + (1.0 - t1 * t1 - t2 * t2).max(0.0).sqrt() * vh;
-        // Unstretch.
-        DVec3::new(a * nh.x, a * nh.y, nh.z.max(0.0)).try_normalize()
-    }
-}
-
-/// The parameters of [`Bsdf::Plastic`], sanitised, with the derived coat constants.
-#[derive(Clone, Copy, Debug)]
-struct PlasticParts {
-    albedo: Rgb,
-    alpha: f64,
-    eta: f64,
-    /// Hemispherical (cosine-weighted) reflectance of the coat seen from inside.
-    fdr_internal: f64,
-}
-
-impl PlasticParts {
-    fn new(albedo: Rgb, roughness: f64, eta: f64) -> PlasticParts {
-        let eta = if eta.is_nan() {
-            1.0
-        } else {
-            eta.clamp(1.0, 10.0)
-        };
-        // Diffuse transmittance through the interface from outside is 1 − F̄ₑₓₜ; from inside
-        // it is smaller by η² (reciprocity of radiance/η²): 1 − F̄ᵢₙₜ = (1 − F̄ₑₓₜ) / η².
-        let fdr_internal = 1.0 - (1.0 - fresnel_diffuse_reflectance(eta)) / (eta * eta);
-        PlasticParts {
-            albedo: unit(albedo),
-            alpha: alpha(roughness),
-            eta,
-            fdr_internal: fdr_internal.clamp(0.0, 1.0),
-        }
-    }
-
-    /// The Lambertian base seen through the coat, f without the cosine.
-    fn diffuse(&self, cos_o: f64, cos_i: f64) -> Rgb {
-        let transmit = (1.0 - fresnel_dielectric(cos_o, self.eta))
-            * (1.0 - fresnel_dielectric(cos_i, self.eta))
-            / (PI * self.eta * self.eta);
-        self.albedo
-            .map(|a| a / (1.0 - a * self.fdr_internal).max(1e-12) * transmit)
-    }
-
-    /// The probability of sampling the coat rather than the base.
-    fn specular_probability(&self, cos_o: f64) -> f64 {
-        let f = fresnel_dielectric(cos_o, self.eta);
-        let mean = (self.albedo[0] + self.albedo[1] + self.albedo[2]) / 3.0;
-        let total = f + (1.0 - f) * mean;
-        if total > 0.0 {
-            (f / total).clamp(0.0, 1.0)
-        } else {
-            1.0
-        }
-    }
-}
-
-/// The hemispherical (cosine-weighted) Fresnel reflectance of a dielectric of index `eta`
-/// ≥ 1 lit from outside: the fit of d'Eon & Irving (2011), as in Mitsuba (relative error
-/// below 0.2 % for η in [1, 10]).
-fn fresnel_diffuse_reflectance(eta: f64) -> f64 {
-    let x = 1.0 / eta;
-    let r = 0.919_317
-        + x * (-3.4793 + x * (6.753_35 + x * (-7.809_89 + x * (4.985_54 - x * 1.368_81))));
-    r.clamp(0.0, 1.0)
-}
-
-/// The GGX α of a roughness parameter: clamped to [0, 1], NaN read as 0.
-fn alpha(roughness: f64) -> f64 {
-    if roughness.is_nan() {
-        0.0
-    } else {
-        roughness.clamp(0.0, 1.0)
-    }
-}
-
-/// Whether a lobe of GGX α is treated as a delta mirror.
-fn is_smooth(alpha: f64) -> bool {
-    alpha < DELTA_ROUGHNESS
-}
-
-/// Both directions strictly above the surface.
-fn upper(wo: DVec3, wi: DVec3) -> bool {
+/// Both directions strictly above the surface: where an opaque lobe scatters.
+pub(super) fn both_above(wo: DVec3, wi: DVec3) -> bool {
     wo.z > 0.0 && wi.z > 0.0
 }
 
-/// The mirror direction of `wo` about the normal +z.
-fn mirror(wo: DVec3) -> DVec3 {
+/// The specular reflection of `wo` about the normal +z.
+pub(super) fn reflect_about_normal(wo: DVec3) -> DVec3 {
     DVec3::new(-wo.x, -wo.y, wo.z)
 }
 
-/// The mirror direction of `wo` about the unit normal `h`.
-fn reflect(wo: DVec3, h: DVec3) -> DVec3 {
+/// The specular reflection of `wo` about the unit microfacet normal `h`.
+pub(super) fn reflect(wo: DVec3, h: DVec3) -> DVec3 {
     2.0 * wo.dot(h) * h - wo
 }
 
-fn scale(c: Rgb, s: f64) -> Rgb {
+// Colours, channel by channel.
+
+/// Every channel times `s`.
+pub(super) fn scale(c: Rgb, s: f64) -> Rgb {
     c.map(|x| x * s)
 }
 
 /// Negative and NaN channels read as 0.
-fn nonneg(c: Rgb) -> Rgb {
+pub(super) fn nonneg(c: Rgb) -> Rgb {
     c.map(|x| if x > 0.0 { x } else { 0.0 })
 }
 
-/// Channels clamped to [0, 1], NaN read as 0.
-fn unit(c: Rgb) -> Rgb {
+/// Channels clamped to [0, 1], NaN read as 0 (a shader's `saturate`).
+pub(super) fn saturate(c: Rgb) -> Rgb {
     c.map(|x| if x > 0.0 { x.min(1.0) } else { 0.0 })
 }
 
-/// Non-finite or negative channels read as 0.
-fn sanitize(c: Rgb) -> Rgb {
+/// Non-finite and negative channels read as 0: what [`Bsdf::eval`] and the sample weights
+/// return.
+pub(super) fn sanitize(c: Rgb) -> Rgb {
     c.map(|x| if x.is_finite() && x > 0.0 { x } else { 0.0 })
 }
