@@ -124,7 +124,8 @@ impl Distribution1d {
         let intervals = self.guide.len() - 1;
         // Exact: M is a power of two. (The cast saturates; u ≥ 1 goes to the full search.)
         let j = (u * intervals as f64) as usize;
-        match (self.guide.get(j), self.guide.get(j + 1)) {
+        // `j + 1` would overflow for a saturated cast (u = ∞): that goes to the full search.
+        match (self.guide.get(j), self.guide.get(j.wrapping_add(1))) {
             (Some(&lo), Some(&hi)) => {
                 let (lo, hi) = (lo as usize, hi as usize);
                 lo + self.cdf[lo..hi].partition_point(|c| *c <= u)
@@ -177,5 +178,18 @@ impl Distribution1d {
     /// ```
     pub fn total(&self) -> f64 {
         self.total
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_at_or_past_one_are_searched_without_overflow() {
+        let distribution = Distribution1d::new(&[1.0, 2.0, 0.0, 1.0]).unwrap();
+        for u in [1.0, 1.5, f64::MAX, f64::INFINITY] {
+            assert_eq!(distribution.first_above(u), distribution.first_above(1.0), "u = {u}");
+        }
     }
 }
