@@ -189,7 +189,11 @@ mod tests {
     fn numbers_at_or_past_one_are_searched_without_overflow() {
         let distribution = Distribution1d::new(&[1.0, 2.0, 0.0, 1.0]).unwrap();
         for u in [1.0, 1.5, f64::MAX, f64::INFINITY] {
-            assert_eq!(distribution.first_above(u), distribution.first_above(1.0), "u = {u}");
+            assert_eq!(
+                distribution.first_above(u),
+                distribution.first_above(1.0),
+                "u = {u}"
+            );
         }
     }
 }
