@@ -469,11 +469,10 @@ const COSH_SERIES: [f64; 7] = [
 ];
 
 /// arsinh x = sign(x)·ln(1 + y), y = |x| + x²/(1 + √(1 + x²)), to within an ulp or two like
-/// `f64::asinh`, which takes a `hypot` on top (in H² the `hypot` alone took 2 % of a
-/// render's time). ln(1 + y) is ln(u)·y/(u − 1) with u = 1 + y rounded, which cancels the
-/// rounding of u (Goldberg's trick), with libm's `ln` rather than the slower `ln_1p` (a
-/// render's distances took 1.7 % of its time in `log1p`). Past 1e150, where x² would
-/// overflow, ln 2|x|.
+/// `f64::asinh`, which takes a `hypot` on top: distances in H² are on every ray's path, and the
+/// `hypot` is a library call. ln(1 + y) is ln(u)·y/(u − 1) with u = 1 + y rounded, which cancels
+/// the rounding of u (Goldberg's trick), with libm's `ln` rather than the slower `ln_1p`. Past
+/// 1e150, where x² would overflow, ln 2|x|.
 #[inline]
 fn arsinh(x: f64) -> f64 {
     let a = x.abs();
