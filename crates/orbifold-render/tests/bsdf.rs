@@ -67,7 +67,7 @@ fn integrate_sphere(n: usize, rng: &mut Rng, mut g: impl FnMut(DVec3) -> f64) ->
     4.0 * PI * sum / (n * n) as f64
 }
 
-fn luminance(c: Rgb) -> f64 {
+fn channel_mean(c: Rgb) -> f64 {
     (c[0] + c[1] + c[2]) / 3.0
 }
 
@@ -354,7 +354,7 @@ fn white_rough_materials_conserve_energy() {
     for (name, bsdf) in materials {
         for degrees in [0.0, 50.0, 80.0, 89.0] {
             let wo = wo_at(degrees);
-            let sampled = luminance(albedo_sampled(&bsdf, wo, 20_000, &mut rng));
+            let sampled = channel_mean(albedo_sampled(&bsdf, wo, 20_000, &mut rng));
             assert!(
                 sampled <= 1.0 + 1e-3,
                 "{name}, θo = {degrees}°: albedo {sampled}"
@@ -364,7 +364,7 @@ fn white_rough_materials_conserve_energy() {
             {
                 // Independent estimate by uniform sampling (the smooth coat's delta part is
                 // invisible to eval, and narrow lobes need too many uniform samples).
-                let uniform = luminance(albedo_uniform(&bsdf, wo, 200, &mut rng));
+                let uniform = channel_mean(albedo_uniform(&bsdf, wo, 200, &mut rng));
                 assert!(uniform <= 1.02, "{name}, θo = {degrees}°: albedo {uniform}");
                 assert!(
                     (uniform - sampled).abs() < 0.02,

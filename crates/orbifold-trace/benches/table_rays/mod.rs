@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use num_complex::Complex64;
-use orbifold::embed::{centre_of_mass, embed};
 use orbifold::space::Space;
+use orbifold_scene::geometry::{Fit, embed_object};
 use orbifold_scene::mesh::TriangleMesh;
 use orbifold_scene::mesh::import::load_mesh;
 use orbifold_trace::geodesic::Ray;
@@ -46,10 +46,7 @@ pub fn load(name: &str) -> Option<TriangleMesh> {
 
 /// An object embedded at the origin of `space`, `OBJECT_SIZE` across: points and heights.
 pub fn embedded(space: Space, mesh: &TriangleMesh) -> (Vec<DVec3>, Vec<f64>) {
-    let (lo, hi) = mesh.bounds().expect("a nonempty mesh");
-    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-    let centre = centre_of_mass(&mesh.positions, &mesh.triangles);
-    let e = embed(space, &mesh.positions, centre, OBJECT_SIZE / extent);
+    let e = embed_object(space, mesh, Fit::Size(OBJECT_SIZE)).expect("a mesh with an extent");
     (e.points, e.heights)
 }
 
