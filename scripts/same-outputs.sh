@@ -68,9 +68,9 @@
 #   SAME_OUTPUTS_JOBS=N             Parallel jobs per side (default: nproc).
 #
 # Typical use during a refactor (base outputs and base binary made once, cheap reruns):
-#   scripts/same-outputs.sh 7d7ed4c /work/same-outputs                 # first time
+#   scripts/same-outputs.sh 7d7ed4c target/same-outputs/out                # first time
 #   SAME_OUTPUTS_SKIP_BASE_BUILD=1 SAME_OUTPUTS_REUSE_BASE=1 \
-#     scripts/same-outputs.sh 7d7ed4c /work/same-outputs               # after each change
+#     scripts/same-outputs.sh 7d7ed4c target/same-outputs/out              # after each change
 set -euo pipefail
 
 # JSON fields whose values vary run to run and are replaced by null before comparing.
