@@ -18,7 +18,7 @@ pub struct RenderOptions {
     pub seed: u64,
     /// Stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
-    /// Stop once the film's relative noise ([`Film::relative_noise`]) is at most this (checked
+    /// Stop once the film's relative noise ([`Film::relative_noise`](crate::film::Film::relative_noise)) is at most this (checked
     /// after every round from the second on).
     pub noise_target: Option<f64>,
     /// Spend the samples where the image is noisiest (see the module documentation); without
