@@ -151,22 +151,27 @@ fn run(
     };
     let start = Instant::now();
     let mut progressive = Progressive::new(&integrator, &camera, &options);
-    let mut shown: Option<Instant> = None;
+    // When the picture was last finished, and how long finishing it took.
+    let mut shown: Option<(Instant, Duration)> = None;
     while progressive.paths() < progressive.budget() && !cancel.load(Ordering::Relaxed) {
         progressive.round();
         let last = progressive.paths() >= progressive.budget() || cancel.load(Ordering::Relaxed);
         if let Ok(mut s) = shared.lock() {
             s.passes = progressive.samples();
         }
-        // Denoising costs about a round: the picture is finished after the first round, then
-        // at most every half second, and at the end.
-        if last || shown.is_none_or(|t| t.elapsed() >= SHOW_EVERY) {
+        // Denoising a large picture takes about a round, and that time is taken from the
+        // render: the picture is finished after the first round, then after at least
+        // SHOW_EVERY and twice the last finish's time (so that at most a third of the time
+        // goes to showing it), and at the end.
+        let due = shown.is_none_or(|(at, took)| at.elapsed() >= SHOW_EVERY.max(2 * took));
+        if last || due {
+            let begun = Instant::now();
             let picture = progressive.picture(start.elapsed(), None);
             let rgba = picture.rgba8();
             if let Ok(mut s) = shared.lock() {
                 s.picture = Some((picture, rgba));
             }
-            shown = Some(Instant::now());
+            shown = Some((Instant::now(), begun.elapsed()));
         }
     }
     finish(None);
