@@ -36,9 +36,9 @@ use crate::integrator::Integrator;
 /// ```
 #[derive(Clone, Debug)]
 pub struct Picture {
-    /// The finished HDR image: the denoised film, or the rendered film itself.
-    pub image: Film,
-    /// Whether `image` was denoised.
+    /// The denoised film, when the picture was denoised (else the rendered film is the image).
+    denoised_image: Option<Film>,
+    /// Whether the image ([`Picture::image`]) was denoised.
     pub denoised: bool,
     /// The exposure (stops) that the display form is tone-mapped with: the caller's, or the
     /// raw film's log-average ([`Film::auto_exposure`]).
@@ -53,31 +53,34 @@ impl Picture {
     /// film's log-average).
     pub fn finish(rendered: Rendered, denoised: bool, exposure: Option<f64>) -> Picture {
         let exposure = exposure.unwrap_or_else(|| rendered.film.auto_exposure());
-        let image = if denoised {
-            denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default())
-        } else {
-            rendered.film.clone()
-        };
+        let denoised_image =
+            denoised.then(|| denoise(&rendered.film, &rendered.guides, &DenoiseOptions::default()));
         Picture {
-            image,
+            denoised_image,
             denoised,
             exposure,
             rendered,
         }
     }
 
+    /// The finished HDR image: the denoised film, or the rendered film itself.
+    pub fn image(&self) -> &Film {
+        self.denoised_image.as_ref().unwrap_or(&self.rendered.film)
+    }
+
     /// The picture's width and height in pixels.
     pub fn size(&self) -> (u32, u32) {
-        (self.image.width(), self.image.height())
+        (self.image().width(), self.image().height())
     }
 
     /// The display form: tone-mapped 8-bit sRGB, four bytes a pixel (opaque), rows from the top.
     pub fn rgba8(&self) -> Vec<u8> {
         let (width, height) = self.size();
+        let image = self.image();
         let mut rgba = Vec::with_capacity(width as usize * height as usize * 4);
         for y in 0..height {
             for x in 0..width {
-                let [r, g, b] = tone_map(self.image.pixel(x, y), self.exposure);
+                let [r, g, b] = tone_map(image.pixel(x, y), self.exposure);
                 rgba.extend_from_slice(&[r, g, b, 255]);
             }
         }
@@ -87,7 +90,7 @@ impl Picture {
     /// Writes the picture by `path`'s extension: the HDR image as OpenEXR, or its display form
     /// as PNG or JPEG; atomically, so `path` never holds a partial image ([`Film::write`]).
     pub fn write(&self, path: &Path) -> Result<(), String> {
-        self.image.write(path, self.exposure)
+        self.image().write(path, self.exposure)
     }
 }
 
