@@ -30,6 +30,10 @@ pub struct Scene {
     pub render: Render,
     /// Real-time preview settings.
     pub preview: Preview,
+    /// How the room sounds (`orbifold listen`); left out of saved scenes while it is the
+    /// default.
+    #[serde(skip_serializing_if = "crate::sound::Sound::is_default")]
+    pub sound: crate::sound::Sound,
 }
 
 impl Scene {
@@ -613,6 +617,7 @@ impl Default for Scene {
             camera: Camera::default(),
             render: Render::default(),
             preview: Preview::default(),
+            sound: crate::sound::Sound::default(),
         }
     }
 }

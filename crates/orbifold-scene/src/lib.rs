@@ -1,6 +1,6 @@
 //! Mirror-room scenes: the document that the command line, the renderer, the preview and the
 //! studio all read and write — the orbifold and its layout, the room (height, mirrors,
-//! materials), objects, lights, the camera and render settings — its TOML file format
+//! materials), objects, lights, the camera, render settings and the sound (`[sound]`) — its TOML file format
 //! (`docs/scene-format.md`), and its validation, with errors that give file, line, column and key.
 //! See ARCHITECTURE.md §7.
 //!
@@ -20,6 +20,7 @@ pub mod file;
 pub mod geometry;
 pub mod mesh;
 pub mod part;
+pub mod sound;
 pub mod texture;
 pub mod validate;
 

@@ -1,0 +1,168 @@
+//! The image sources of a room: the tiles g·P of its universal cover (ARCHITECTURE.md §6), in
+//! which the source's mirror images g·s lie.
+//!
+//! Sound reflects off every wall — mirror or not, only the absorption differs — so every group
+//! element gives an image, as in the image-source method of a rectangular room (Allen &
+//! Berkley, "Image method for efficiently simulating small-room acoustics", JASA 65, 1979) and of
+//! any room bounded by planes (Borish, JASA 75, 1984). Here the planes are the walls' geodesics,
+//! the images are taken by the reflection group of the orbifold, and the floor and ceiling, the
+//! flat R factor, unfold separately ([`crate::arrival`]).
+//!
+//! Tiles are found breadth first across walls, each child being its parent's element times the
+//! reflection in one wall (`orbifold::cover::reflection`), and recognised by where they take the
+//! room's centre. The search keeps every tile whose centre is within `reach + 3·radius` of the
+//! base tile's: the image of any point of the room within `reach` of any other lies in a tile
+//! whose centre is within `reach + 2·radius`, and the tiles that a geodesic to it crosses, one
+//! radius further, connect it to the base tile.
+
+use glam::{DMat3, DVec3};
+use orbifold::cover::reflection;
+use orbifold_trace::room::AnalyticRoom;
+use rustc_hash::FxHashMap;
+
+/// One tile of the cover: a group element and its word length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tile {
+    /// The element g, as an ambient matrix.
+    pub matrix: DMat3,
+    /// Its word length: the fewest walls a path into the tile crosses.
+    pub depth: u32,
+}
+
+/// At most this many tiles (a bound on memory for rooms whose cover grows fast).
+pub const MAX_TILES: usize = 4_000_000;
+
+/// The tiles whose centres are within `reach + 3·radius` of the room's centre, where `radius`
+/// is the room's (the farthest of its corners, or cusp cuts, from `centre`), breadth first:
+/// the identity first, then by word length.
+///
+/// ```
+/// use orbifold::{Layout, LayoutOptions};
+/// use orbifold_sound::image_source::tiles;
+/// use orbifold_trace::room::AnalyticRoom;
+/// let layout = Layout::new(&"*235".parse()?, &LayoutOptions::default())?;
+/// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [1.0; 3])?;
+/// let centre = room.space.to_ambient(layout.centre);
+/// // The spherical group *235 has 120 elements.
+/// assert_eq!(tiles(&room, centre, 10.0).len(), 120);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn tiles(room: &AnalyticRoom, centre: DVec3, reach: f64) -> Vec<Tile> {
+    let space = room.space;
+    let radius = room_radius(room, centre);
+    let limit = reach + 3.0 * radius;
+    let reflections: Vec<DMat3> = room
+        .walls
+        .iter()
+        .map(|w| reflection(space, w.form))
+        .collect();
+    let mut found = Found::default();
+    let mut list = vec![Tile {
+        matrix: DMat3::IDENTITY,
+        depth: 0,
+    }];
+    found.insert(centre, 0);
+    let mut next = 0;
+    while next < list.len() && list.len() < MAX_TILES {
+        let tile = list[next];
+        next += 1;
+        for r in &reflections {
+            let matrix = tile.matrix * *r;
+            let key = matrix * centre;
+            // Far out on the hyperboloid long products lose their last digits: no tile there.
+            if !key.is_finite() || space.ambient_distance(centre, key) > limit {
+                continue;
+            }
+            if found.contains(&list, key) {
+                continue;
+            }
+            found.insert(key, list.len());
+            list.push(Tile {
+                matrix,
+                depth: tile.depth + 1,
+            });
+        }
+    }
+    list
+}
+
+/// The farthest a point of the room is from `centre`: its farthest corner (or cusp cut).
+pub fn room_radius(room: &AnalyticRoom, centre: DVec3) -> f64 {
+    room.walls
+        .iter()
+        .map(|w| room.space.ambient_distance(centre, w.start))
+        .fold(0.0, f64::max)
+        .max(1e-3)
+}
+
+/// Tiles already found, by the cell of where they take the room's centre.
+#[derive(Default)]
+struct Found {
+    cells: FxHashMap<[i64; 3], Vec<usize>>,
+    keys: Vec<DVec3>,
+}
+
+impl Found {
+    /// Cells 1e-4 wide: tile centres are much farther apart, rounding errors much smaller.
+    fn cell(key: DVec3) -> [i64; 3] {
+        [key.x, key.y, key.z].map(|v| (v * 1e4).round() as i64)
+    }
+
+    fn insert(&mut self, key: DVec3, index: usize) {
+        debug_assert_eq!(index, self.keys.len());
+        self.keys.push(key);
+        self.cells.entry(Self::cell(key)).or_default().push(index);
+    }
+
+    /// Whether a tile takes the centre within 1e-7·(1 + |key|) of `key`: its own cell, and the
+    /// neighbouring ones that the tolerance reaches into.
+    fn contains(&self, _list: &[Tile], key: DVec3) -> bool {
+        let tolerance = 1e-7 * (1.0 + key.length());
+        let low = Self::cell(key - DVec3::splat(tolerance));
+        let high = Self::cell(key + DVec3::splat(tolerance));
+        for a in low[0]..=high[0] {
+            for b in low[1]..=high[1] {
+                for c in low[2]..=high[2] {
+                    let Some(list) = self.cells.get(&[a, b, c]) else {
+                        continue;
+                    };
+                    if list
+                        .iter()
+                        .any(|&i| (self.keys[i] - key).length() < tolerance)
+                    {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use orbifold::{Layout, LayoutOptions};
+
+    fn room(signature: &str) -> (AnalyticRoom, DVec3) {
+        let layout = Layout::new(&signature.parse().unwrap(), &LayoutOptions::default()).unwrap();
+        let room = AnalyticRoom::all_mirrors(&layout, 1.0, [1.0; 3]).unwrap();
+        let centre = room.space.to_ambient(layout.centre);
+        (room, centre)
+    }
+
+    #[test]
+    fn tiles_are_distinct_and_counted_by_the_growth_series_near_the_base() {
+        // Every tile up to a word length is found once: the counts by depth agree with the
+        // Coxeter group's growth series (computed independently in `orbifold::growth`).
+        for signature in ["*2222", "*444", "*2333", "*235"] {
+            let (room, centre) = room(signature);
+            let list = tiles(&room, centre, 6.0);
+            let series = orbifold::growth::growth_series(&signature.parse().unwrap(), 3).unwrap();
+            for (depth, expected) in series.iter().enumerate() {
+                let count = list.iter().filter(|t| t.depth as usize == depth).count();
+                assert_eq!(count as u128, *expected, "{signature} depth {depth}");
+            }
+        }
+    }
+}
