@@ -10,10 +10,10 @@
 //!
 //! Tiles are found breadth first across walls, each child being its parent's element times the
 //! reflection in one wall (`orbifold::cover::reflection`), and recognised by where they take the
-//! room's centre. The search keeps every tile whose centre is within `reach + 3·radius` of the
-//! base tile's: the image of any point of the room within `reach` of any other lies in a tile
-//! whose centre is within `reach + 2·radius`, and the tiles that a geodesic to it crosses, one
-//! radius further, connect it to the base tile.
+//! room's centre. The search keeps every tile whose centre is within `reach + radius` of the
+//! listener: every tile that a geodesic of length `reach` from the listener crosses or ends in
+//! has a point within `reach` of the listener, so its centre is within `reach + radius`, and
+//! those tiles connect the listener's own (the base tile) to the one it ends in.
 
 use glam::{DMat3, DVec3};
 use orbifold::cover::reflection;
@@ -32,9 +32,9 @@ pub struct Tile {
 /// At most this many tiles (a bound on memory for rooms whose cover grows fast).
 pub const MAX_TILES: usize = 4_000_000;
 
-/// The tiles whose centres are within `reach + 3·radius` of the room's centre, where `radius`
-/// is the room's (the farthest of its corners, or cusp cuts, from `centre`), breadth first:
-/// the identity first, then by word length.
+/// The tiles whose centres are within `reach + radius` of `listener` (ambient, in the room),
+/// where `radius` is the room's (the farthest of its corners, or cusp cuts, from `centre`),
+/// breadth first: the identity first, then by word length.
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
@@ -44,13 +44,13 @@ pub const MAX_TILES: usize = 4_000_000;
 /// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [1.0; 3])?;
 /// let centre = room.space.to_ambient(layout.centre);
 /// // The spherical group *235 has 120 elements.
-/// assert_eq!(tiles(&room, centre, 10.0).len(), 120);
+/// assert_eq!(tiles(&room, centre, centre, 10.0).len(), 120);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn tiles(room: &AnalyticRoom, centre: DVec3, reach: f64) -> Vec<Tile> {
+pub fn tiles(room: &AnalyticRoom, centre: DVec3, listener: DVec3, reach: f64) -> Vec<Tile> {
     let space = room.space;
     let radius = room_radius(room, centre);
-    let limit = reach + 3.0 * radius;
+    let limit = reach + radius;
     let reflections: Vec<DMat3> = room
         .walls
         .iter()
@@ -70,10 +70,10 @@ pub fn tiles(room: &AnalyticRoom, centre: DVec3, reach: f64) -> Vec<Tile> {
             let matrix = tile.matrix * *r;
             let key = matrix * centre;
             // Far out on the hyperboloid long products lose their last digits: no tile there.
-            if !key.is_finite() || space.ambient_distance(centre, key) > limit {
+            if !key.is_finite() || space.ambient_distance(listener, key) > limit {
                 continue;
             }
-            if found.contains(&list, key) {
+            if found.contains(key) {
                 continue;
             }
             found.insert(key, list.len());
@@ -96,41 +96,65 @@ pub fn room_radius(room: &AnalyticRoom, centre: DVec3) -> f64 {
 }
 
 /// Tiles already found, by the cell of where they take the room's centre.
+///
+/// Keys far out on the hyperboloid are large and carry proportionally large rounding errors, so
+/// the tolerance within which two keys are the same tile grows with the key (1e-7·(1 + |key|)),
+/// and so do the cells: keys of size in [2ᵇ − 1, 2ᵇ⁺¹ − 1) are gridded in cells 2ᵇ·10⁻⁴ wide. A
+/// lookup then looks in at most two cells a side, in the one or two size bands the tolerance
+/// reaches.
 #[derive(Default)]
 struct Found {
-    cells: FxHashMap<[i64; 3], Vec<usize>>,
+    /// The last key put in each cell; `next` chains the others (no allocation per cell).
+    cells: FxHashMap<[i64; 4], u32>,
+    next: Vec<u32>,
     keys: Vec<DVec3>,
 }
 
+/// The end of a cell's chain.
+const NONE: u32 = u32::MAX;
+
 impl Found {
-    /// Cells 1e-4 wide: tile centres are much farther apart, rounding errors much smaller.
-    fn cell(key: DVec3) -> [i64; 3] {
-        [key.x, key.y, key.z].map(|v| (v * 1e4).round() as i64)
+    fn band(size: f64) -> i32 {
+        (1.0 + size).log2().floor() as i32
+    }
+
+    fn cell(band: i32, key: DVec3) -> [i64; 3] {
+        let width = 1e-4 * 2f64.powi(band);
+        [key.x, key.y, key.z].map(|v| (v / width).floor() as i64)
     }
 
     fn insert(&mut self, key: DVec3, index: usize) {
         debug_assert_eq!(index, self.keys.len());
         self.keys.push(key);
-        self.cells.entry(Self::cell(key)).or_default().push(index);
+        let band = Self::band(key.length());
+        let [a, b, c] = Self::cell(band, key);
+        let last = self.cells.insert([i64::from(band), a, b, c], index as u32);
+        self.next.push(last.unwrap_or(NONE));
     }
 
-    /// Whether a tile takes the centre within 1e-7·(1 + |key|) of `key`: its own cell, and the
-    /// neighbouring ones that the tolerance reaches into.
-    fn contains(&self, _list: &[Tile], key: DVec3) -> bool {
-        let tolerance = 1e-7 * (1.0 + key.length());
-        let low = Self::cell(key - DVec3::splat(tolerance));
-        let high = Self::cell(key + DVec3::splat(tolerance));
-        for a in low[0]..=high[0] {
-            for b in low[1]..=high[1] {
-                for c in low[2]..=high[2] {
-                    let Some(list) = self.cells.get(&[a, b, c]) else {
-                        continue;
-                    };
-                    if list
-                        .iter()
-                        .any(|&i| (self.keys[i] - key).length() < tolerance)
-                    {
-                        return true;
+    /// Whether a tile takes the centre within 1e-7·(1 + |key|) of `key`.
+    fn contains(&self, key: DVec3) -> bool {
+        let size = key.length();
+        let tolerance = 1e-7 * (1.0 + size);
+        // |key| changes by at most the distance between two keys.
+        let bands = Self::band((size - tolerance).max(0.0))..=Self::band(size + tolerance);
+        for band in bands {
+            let low = Self::cell(band, key - DVec3::splat(tolerance));
+            let high = Self::cell(band, key + DVec3::splat(tolerance));
+            for a in low[0]..=high[0] {
+                for b in low[1]..=high[1] {
+                    for c in low[2]..=high[2] {
+                        let mut i = self
+                            .cells
+                            .get(&[i64::from(band), a, b, c])
+                            .copied()
+                            .unwrap_or(NONE);
+                        while i != NONE {
+                            if (self.keys[i as usize] - key).length() < tolerance {
+                                return true;
+                            }
+                            i = self.next[i as usize];
+                        }
                     }
                 }
             }
@@ -157,7 +181,7 @@ mod tests {
         // Coxeter group's growth series (computed independently in `orbifold::growth`).
         for signature in ["*2222", "*444", "*2333", "*235"] {
             let (room, centre) = room(signature);
-            let list = tiles(&room, centre, 6.0);
+            let list = tiles(&room, centre, centre, 6.0);
             let series = orbifold::growth::growth_series(&signature.parse().unwrap(), 3).unwrap();
             for (depth, expected) in series.iter().enumerate() {
                 let count = list.iter().filter(|t| t.depth as usize == depth).count();

@@ -81,14 +81,14 @@ impl Listening<'_> {
         listener: Point,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Response {
-        let reach = self.settings.reach();
-        let list = tiles(self.room, self.centre, reach);
+        let reach = self.reach();
+        let list = tiles(self.room, self.centre, listener.at, reach);
         let done = AtomicUsize::new(0);
         let total = list.len();
         let per_tile: Vec<(Vec<HorizontalPath>, Vec<Arrival>, usize)> = list
             .par_iter()
             .map(|tile| {
-                let found = self.tile_echoes(tile, source, listener);
+                let found = self.tile_echoes(tile, source, listener, reach);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n % 256 == 0 || n == total {
                     progress(n, total);
@@ -129,10 +129,10 @@ impl Listening<'_> {
         tile: &Tile,
         source: Point,
         listener: Point,
+        reach: f64,
     ) -> (Vec<HorizontalPath>, Vec<Arrival>, usize) {
         let space = self.room.space;
         let settings = self.settings;
-        let reach = settings.reach();
         let image = tile.matrix * source.at;
         let d = space.ambient_distance(listener.at, image);
         let wall_best = largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall));
@@ -140,10 +140,17 @@ impl Listening<'_> {
         let mut arrivals = Vec::new();
         let mut lost = 0;
         let turns = if space.kappa() > 0.0 { u32::MAX } else { 1 };
+        // On the sphere, the path of turn t + 2 is that of turn t and once more round: it meets
+        // every wall that one meets and more, so once a turn is too quiet at its loudest (at a
+        // focus), so are all later turns of its parity.
+        let mut quiet = [false; 2];
         for turn in 0..turns {
             let (sigma, _) = crate::path::turned(d, turn);
-            if sigma > reach {
+            if sigma > reach || quiet.iter().all(|&q| q) {
                 break;
+            }
+            if quiet[turn as usize % 2] {
+                continue;
             }
             // No path into this tile meets fewer walls than its word length.
             let bound = wall_best.powi(tile.depth.min(i32::MAX as u32) as i32)
@@ -162,11 +169,46 @@ impl Listening<'_> {
                 lost += 1;
                 continue;
             };
+            if space.kappa() > 0.0 {
+                let walls = largest(&path.fixed) * path.partial_best.powi(path.partial.len() as i32);
+                quiet[turn as usize % 2] = walls * self.focus_bound(sigma) < settings.min_amplitude;
+            }
             let index = paths.len() as u32;
-            self.slabs(&path, index, source, listener, &mut arrivals);
+            self.slabs(&path, index, (source, listener), reach, &mut arrivals);
             paths.push(path);
         }
         (paths, arrivals, lost)
+    }
+
+    /// The longest path that can be heard: as long as the response lasts, and, where spreading
+    /// alone takes a path below the amplitude limit (E² and H², where J grows with length),
+    /// no longer than that.
+    pub fn reach(&self) -> f64 {
+        let space = self.room.space;
+        let time = self.settings.reach();
+        if space.kappa() > 0.0 || self.spreading_bound(space, time, time) >= self.settings.min_amplitude {
+            return time;
+        }
+        // J(ℓ, ℓ) grows with ℓ: bisect for the length where the bound meets the limit.
+        let (mut lo, mut hi) = (0.0, time);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if self.spreading_bound(space, mid, mid) >= self.settings.min_amplitude {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    }
+
+    /// The most that spreading lets through on the sphere at horizontal length σ or more
+    /// (J ≥ σ·sin(focus), its least value, at a focus).
+    fn focus_bound(&self, sigma: f64) -> f64 {
+        let r = self.settings.metres_per_unit;
+        let focus = 0.5 * self.settings.listener_size / r;
+        let j = (sigma * focus.sin()).max(1e-300) * r * r;
+        1.0 / (4.0 * std::f64::consts::PI * j.sqrt())
     }
 
     /// The most that spreading lets through at length ℓ and horizontal length σ.
@@ -182,13 +224,12 @@ impl Listening<'_> {
         &self,
         path: &HorizontalPath,
         index: u32,
-        source: Point,
-        listener: Point,
+        (source, listener): (Point, Point),
+        reach: f64,
         out: &mut Vec<Arrival>,
     ) {
         let space = self.room.space;
         let settings = self.settings;
-        let reach = settings.reach();
         let walls_best = largest(&path.fixed) * path.partial_best.powi(path.partial.len() as i32);
         let (floor_best, ceiling_best) = (
             largest(&settings.reflection.floor),
