@@ -1,0 +1,134 @@
+//! In curved rooms every echo is a geodesic of the product space through the surfaces it names:
+//! the tracer, launched from the listener in the echo's first direction and reflected at every
+//! surface it meets (walls in closed form, the floor and ceiling by turning its elevation),
+//! meets exactly those surfaces in that order and reaches the source after the echo's length.
+//! Where the geodesic goes the short way, its length is also the product-space distance to the
+//! image that the named surfaces' reflections make of the source.
+
+mod common;
+
+use glam::DMat3;
+use orbifold::cover::reflection;
+use orbifold_sound::{Bounce, Hearing};
+use orbifold_trace::geodesic::Ray;
+use orbifold_trace::room::{AnalyticRoom, RoomSurface};
+
+/// The surfaces a geodesic meets in the room over arc length `length`, reflecting at every one,
+/// and where it ends (ambient, height).
+fn trace(room: &AnalyticRoom, mut ray: Ray, length: f64) -> (Vec<RoomSurface>, glam::DVec3, f64) {
+    let space = room.space;
+    let mut left = length;
+    let mut met = Vec::new();
+    loop {
+        let hit = room.exit(&ray).filter(|h| h.s < left);
+        let Some(hit) = hit else {
+            let (end, h) = ray.point_at(space, left);
+            return (met, end, h);
+        };
+        left -= hit.s;
+        met.push(hit.surface);
+        ray = ray.continued(space, hit.s, hit.point, hit.tangent);
+        match hit.surface {
+            RoomSurface::Wall(w) => ray = ray.reflected(space, room.walls[w].form),
+            RoomSurface::Floor | RoomSurface::Ceiling => ray.sin_elevation = -ray.sin_elevation,
+        }
+        assert!(met.len() < 10_000);
+    }
+}
+
+fn check(signature: &str, seconds: f64, max_checked: usize) {
+    let scene = common::scene(signature, seconds);
+    let hearing = Hearing::from_scene(&scene).unwrap();
+    let response = hearing.mono(&|_, _| {});
+    let room = &hearing.room;
+    let space = room.space;
+    let r = hearing.settings.metres_per_unit;
+    let (source, listener) = (hearing.source, hearing.listener);
+    assert!(response.arrivals.len() > 50, "{signature}: {}", response.arrivals.len());
+    let mut short_way = 0;
+    let step = (response.arrivals.len() / max_checked).max(1);
+    for a in response.arrivals.iter().step_by(step) {
+        let bounces: Vec<Bounce> = response.bounces(room, a);
+        let path = &response.paths[a.path as usize];
+        let length = a.length / r;
+        // The first direction: the path's horizontal direction, climbing to the image.
+        let rise = (length * length - path.sigma * path.sigma).max(0.0).sqrt();
+        let vertical: i32 = bounces
+            .iter()
+            .map(|b| match b.surface {
+                RoomSurface::Ceiling => 1,
+                RoomSurface::Floor => -1,
+                RoomSurface::Wall(_) => 0,
+            })
+            .find(|&v| v != 0)
+            .unwrap_or(0);
+        let up = match vertical {
+            0 => source.height >= listener.height,
+            v => v > 0,
+        };
+        let ray = Ray::climbing(
+            space,
+            listener.at,
+            path.direction,
+            listener.height,
+            path.sigma,
+            if up { rise } else { -rise },
+        );
+        let (met, end, h) = trace(room, ray, length);
+        let named: Vec<RoomSurface> = bounces.iter().map(|b| b.surface).collect();
+        assert_eq!(met, named, "{signature}: echo at {} s", a.time);
+        assert!(
+            space.ambient_distance(end, source.at) < 1e-6 && (h - source.height).abs() < 1e-6,
+            "{signature}: the echo at {} s ends {} from the source",
+            a.time,
+            space.ambient_distance(end, source.at)
+        );
+        // The image of the source by the named reflections, first met outermost.
+        let mut g = DMat3::IDENTITY;
+        let mut z = source.height;
+        for b in bounces.iter().rev() {
+            match b.surface {
+                RoomSurface::Wall(w) => g = reflection(space, room.walls[w].form) * g,
+                RoomSurface::Floor => z = -z,
+                RoomSurface::Ceiling => z = 2.0 * room.height - z,
+            }
+        }
+        let d = space.ambient_distance(listener.at, g * source.at);
+        if (d - path.sigma).abs() < 1e-9 {
+            short_way += 1;
+            let expected = (d * d + (z - listener.height).powi(2)).sqrt() * r;
+            assert!(
+                (a.length - expected).abs() < 1e-9 * expected,
+                "{signature}: {} m, expected {expected} m",
+                a.length
+            );
+            let time = expected / hearing.settings.speed;
+            assert!((a.time - time).abs() < 1e-12, "{signature}");
+        }
+    }
+    assert!(short_way > 0, "{signature}");
+}
+
+#[test]
+fn echoes_in_a_spherical_room_are_traced_geodesics() {
+    check("*235", 0.4, 400);
+}
+
+#[test]
+fn echoes_in_hyperbolic_rooms_are_traced_geodesics() {
+    check("*444", 0.15, 400);
+    check("*2333", 0.15, 400);
+}
+
+#[test]
+fn the_sphere_brings_echoes_back_round() {
+    // Echoes that went the long way round (σ > π) are heard, and among them some that went
+    // round more than once.
+    let scene = common::scene("*235", 0.6);
+    let hearing = Hearing::from_scene(&scene).unwrap();
+    let response = hearing.mono(&|_, _| {});
+    let sigmas: Vec<f64> = response.paths.iter().map(|p| p.sigma).collect();
+    assert!(sigmas.iter().any(|&s| s > std::f64::consts::PI));
+    assert!(sigmas.iter().any(|&s| s > 2.0 * std::f64::consts::PI));
+    assert!(response.arrivals.iter().all(|a| a.amplitude.is_finite()));
+}
