@@ -66,6 +66,59 @@ pub enum Command {
     /// GPU with the non-Euclidean projection (no ray tracing). Works on a software adapter.
     #[command(after_help = PREVIEW_EXAMPLES)]
     Preview(PreviewArgs),
+    /// Hear a mirror room: its echoes along the geodesics of S²×R, E²×R or H²×R, found as the
+    /// source's images under the reflection group and off the floor and ceiling, as an impulse
+    /// response (WAV), optionally played through the room (a dry sound or a built-in clap).
+    #[command(after_help = LISTEN_EXAMPLES)]
+    Listen(ListenArgs),
+}
+
+const LISTEN_EXAMPLES: &str = "\
+Examples:
+  orbifold listen '*2222' -o shoebox.wav            # the impulse response of a shoebox
+  orbifold listen '*444' -o clap.wav --convolve     # a clap in a hyperbolic room
+  orbifold listen '*235' -o voice.wav --convolve dry.wav --stereo
+  orbifold listen scene.toml -o ir.wav --seconds 1 --echogram echo.png
+  orbifold listen '*2333' -o ir.wav --json > arrivals.json
+
+The source is at the scene's first light (a bare signature: the room's centre) and the listener
+at the camera, unless the scene's [sound] table says otherwise; it also sets the size of an
+intrinsic unit in metres (the curvature radius), the speed of sound, the sample rate, the
+absorption of mirrors, walls, floor and ceiling (per octave band if wanted), air absorption and
+the level below which echoes are left out (docs/scene-format.md). Stereo puts two ears on the
+camera's right axis. The WAV file is 16-bit, scaled so that its peak is 0.9 (the scale is
+printed). docs/sound.md explains the acoustics.
+
+--json prints {\"output\", \"sample_rate\", \"seconds\", \"channels\", \"scale\", \"lost\",
+\"arrivals\": [{\"time\", \"amplitude\", \"surfaces\", \"length\"}]} (and \"arrivals_right\" in
+stereo, \"arrivals\" then being the left ear's), sorted by time: time in seconds, amplitude as
+pressure (the direct sound at one metre is 1/(4π)), the surfaces met in order (\"floor\",
+\"ceiling\", \"wall I\", \"mirror I\"), length in metres.";
+
+#[derive(Debug, Args)]
+pub struct ListenArgs {
+    /// A scene file (`.toml`) or a signature (its default room); the built-in default scene
+    /// without one.
+    #[arg(value_name = "SCENE|SIG")]
+    pub input: Option<String>,
+    /// The WAV file to write.
+    #[arg(short, long, value_name = "FILE.wav", default_value = "listen.wav")]
+    pub output: std::path::PathBuf,
+    /// The response's length in seconds (default: the scene's [sound] seconds, 2).
+    #[arg(long, value_name = "T")]
+    pub seconds: Option<f64>,
+    /// Two channels: ears on the camera's right axis.
+    #[arg(long)]
+    pub stereo: bool,
+    /// Play a dry sound through the room: this WAV file, or a built-in clap without one.
+    #[arg(long, value_name = "DRY.wav", num_args = 0..=1)]
+    pub convolve: Option<Option<std::path::PathBuf>>,
+    /// Print the echoes as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Draw the echogram (PNG or SVG): the echoes over time, coloured by reflections.
+    #[arg(long, value_name = "FILE.png|FILE.svg")]
+    pub echogram: Option<std::path::PathBuf>,
 }
 
 const PREVIEW_EXAMPLES: &str = "\

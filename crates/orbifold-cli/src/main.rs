@@ -28,6 +28,7 @@ fn main() -> ExitCode {
         Command::Render(args) => commands::render::run(&args),
         Command::Animate(args) => commands::animate::run(&args),
         Command::Preview(args) => commands::preview::run(&args),
+        Command::Listen(args) => commands::listen::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -25,6 +25,10 @@ const CLASSES: [(u32, &str, RGBColor); 8] = [
     (32, "32+", RGBColor(94, 79, 162)),
 ];
 
+/// The font, as the project's other pictures name it (`orbifold-picture`): resvg finds DejaVu
+/// where a generic `sans-serif` may name a font that is not installed.
+const FONT: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+
 fn class(reflections: u32) -> usize {
     CLASSES
         .iter()
@@ -110,7 +114,7 @@ fn draw(
         .fold(floor + 10.0, f64::max)
         + 3.0;
     let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
+        .caption(title, (FONT, 18))
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(48)
@@ -119,6 +123,8 @@ fn draw(
         .configure_mesh()
         .x_desc("time (s)")
         .y_desc("level (dB re direct sound at 1 m)")
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
         .light_line_style(WHITE)
         .draw()?;
     let columns = (width as usize).max(1);
@@ -134,7 +140,11 @@ fn draw(
         });
         chart
             .draw_series(lines)?
-            .label(format!("{} reflections", CLASSES[c].1))
+            .label(match c {
+                0 => "direct".to_string(),
+                1 => "1 reflection".to_string(),
+                _ => format!("{} reflections", CLASSES[c].1),
+            })
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], color.stroke_width(3)));
     }
     chart
@@ -142,7 +152,7 @@ fn draw(
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .label_font(("sans-serif", 11))
+        .label_font((FONT, 11))
         .draw()?;
     root.present()?;
     Ok(())

@@ -5,6 +5,7 @@ pub mod cover;
 pub mod enumerate;
 pub mod info;
 pub mod layout;
+pub mod listen;
 pub mod preview;
 pub mod render;
 pub mod room;
