@@ -7,6 +7,7 @@ use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use orbifold_scene::Scene;
 
 use crate::document::{self, Document};
+use crate::listen_panel::ListenPanel;
 use crate::render_job::{RenderJob, default_output};
 use crate::view3d::View3d;
 use crate::{design, layout_view, room_panel};
@@ -20,6 +21,8 @@ pub enum Tab {
     Tiling,
     /// The photo-realistic renderer.
     Render,
+    /// The room's echoes: a clap at the camera, heard.
+    Listen,
 }
 
 /// A file dialog: a path typed in (the studio has no native dialogs).
@@ -55,6 +58,8 @@ pub struct Studio {
     tiling: Option<(u64, egui::TextureHandle)>,
     /// Set by the binary's `--screenshot`: frames left before the screenshot is taken.
     pub screenshot: Option<(PathBuf, u32)>,
+    /// The listen tab (its audio output can be replaced, for tests).
+    pub listen: ListenPanel,
 }
 
 impl Studio {
@@ -89,6 +94,7 @@ impl Studio {
             render_samples: 32,
             tiling: None,
             screenshot: None,
+            listen: ListenPanel::default(),
         }
     }
 
@@ -280,6 +286,7 @@ impl Studio {
             ui.selectable_value(&mut self.tab, Tab::View, "3D view");
             ui.selectable_value(&mut self.tab, Tab::Tiling, "tiling");
             ui.selectable_value(&mut self.tab, Tab::Render, "render");
+            ui.selectable_value(&mut self.tab, Tab::Listen, "listen");
             if self.tab == Tab::View && ui.button("Use this view").clicked() {
                 let camera = self.view.camera.clone();
                 self.document.edit(|scene| scene.camera = camera);
@@ -294,6 +301,9 @@ impl Studio {
             }
             Tab::Tiling => self.tiling(ui),
             Tab::Render => self.render(ui),
+            Tab::Listen => self
+                .listen
+                .show(ui, self.document.scene(), &self.view.camera),
         }
     }
 
