@@ -22,6 +22,10 @@
 //! use orbifold_sound::Hearing;
 //! let mut scene = Scene::default();
 //! scene.orbifold.signature = "*444".into();
+//! scene.objects.clear();
+//! // The camera (the listener) and the light (the source) inside this smaller room.
+//! scene.camera.at = [0.1, 0.0];
+//! scene.lights[0].at = [-0.05, 0.05];
 //! scene.sound.seconds = 0.2;
 //! let hearing = Hearing::from_scene(&scene)?;
 //! let response = hearing.mono(&|_, _| {});

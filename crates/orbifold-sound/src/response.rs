@@ -174,15 +174,18 @@ impl Listening<'_> {
                 quiet[turn as usize % 2] = walls * self.focus_bound(sigma) < settings.min_amplitude;
             }
             let index = paths.len() as u32;
-            self.slabs(&path, index, (source, listener), reach, &mut arrivals);
+            self.slabs(&path, index, (source, listener), &mut arrivals);
             paths.push(path);
         }
         (paths, arrivals, lost)
     }
 
-    /// The longest path that can be heard: as long as the response lasts, and, where spreading
-    /// alone takes a path below the amplitude limit (E² and H², where J grows with length),
-    /// no longer than that.
+    /// The longest horizontal part σ of a path that can be heard: no longer than the response
+    /// lasts, and, where spreading alone takes a path below the amplitude limit, no longer than
+    /// that. A path of horizontal length σ is at least σ long, so its J = ℓ²·S_κ(σ)/σ is at
+    /// least σ·S_κ(σ), which grows with σ in E² and H² (not on the sphere, where the turns are
+    /// limited instead). Lengths as such are limited only by time: a path that climbs steeply
+    /// spreads as in flat space.
     pub fn reach(&self) -> f64 {
         let space = self.room.space;
         let time = self.settings.reach();
@@ -219,17 +222,18 @@ impl Listening<'_> {
     }
 
     /// The echoes along one horizontal path: the slabs 0, 1, 2, … and −1, −2, …, each side while
-    /// its bound stays above the limit and its length within reach.
+    /// its bound stays above the limit and it arrives within the response's length.
     fn slabs(
         &self,
         path: &HorizontalPath,
         index: u32,
         (source, listener): (Point, Point),
-        reach: f64,
         out: &mut Vec<Arrival>,
     ) {
         let space = self.room.space;
         let settings = self.settings;
+        // Lengths are limited by time alone (see [`Listening::reach`]).
+        let reach = settings.reach();
         let walls_best = largest(&path.fixed) * path.partial_best.powi(path.partial.len() as i32);
         let (floor_best, ceiling_best) = (
             largest(&settings.reflection.floor),
