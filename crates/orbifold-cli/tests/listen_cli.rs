@@ -39,15 +39,20 @@ fn a_shoebox_s_echoes_are_written_and_listed_by_time() {
     let json = listen_json(&["*2222", "-o", wav.to_str().unwrap(), "--seconds", "0.1"]);
     let arrivals = json["arrivals"].as_array().unwrap();
     assert!(arrivals.len() > 20);
-    let times: Vec<f64> = arrivals.iter().map(|a| a["time"].as_f64().unwrap()).collect();
+    let times: Vec<f64> = arrivals
+        .iter()
+        .map(|a| a["time"].as_f64().unwrap())
+        .collect();
     assert!(times.windows(2).all(|w| w[0] <= w[1]));
     // The direct sound first, with no surfaces; then echoes that name theirs.
     assert_eq!(arrivals[0]["surfaces"].as_array().unwrap().len(), 0);
-    assert!(arrivals.iter().any(|a| a["surfaces"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .any(|s| s == "floor")));
+    assert!(arrivals.iter().any(|a| {
+        a["surfaces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|s| s == "floor")
+    }));
     // Length over time is the speed of sound.
     let a = &arrivals[3];
     let speed = a["length"].as_f64().unwrap() / a["time"].as_f64().unwrap();
@@ -96,18 +101,30 @@ fn a_dry_sound_is_played_through_the_room() {
     };
     let mut writer = hound::WavWriter::create(&dry, spec).unwrap();
     for i in 0..2400 {
-        writer.write_sample(((i as f32 * 0.1).sin() * 10_000.0) as i16).unwrap();
+        writer
+            .write_sample(((i as f32 * 0.1).sin() * 10_000.0) as i16)
+            .unwrap();
     }
     writer.finalize().unwrap();
     let wet = dir.path().join("wet.wav");
     orbifold()
-        .args(["listen", "*235", "-o", wet.to_str().unwrap(), "--seconds", "0.05"])
+        .args([
+            "listen",
+            "*235",
+            "-o",
+            wet.to_str().unwrap(),
+            "--seconds",
+            "0.05",
+        ])
         .args(["--convolve", dry.to_str().unwrap()])
         .assert()
         .success()
         .stdout(predicate::str::contains("echoes"));
     // Brought to 48 kHz: 4800 samples of dry sound.
-    assert_eq!(hound::WavReader::open(&wet).unwrap().duration(), 2400 + 4800 - 1);
+    assert_eq!(
+        hound::WavReader::open(&wet).unwrap().duration(),
+        2400 + 4800 - 1
+    );
 }
 
 #[test]
@@ -116,10 +133,19 @@ fn bad_input_is_refused_with_no_file_written() {
     let out = dir.path().join("x.wav");
     let o = out.to_str().unwrap();
     for (args, message) in [
-        (vec!["*2222", "-o", "x.mp3"], "expected a file ending in .wav"),
+        (
+            vec!["*2222", "-o", "x.mp3"],
+            "expected a file ending in .wav",
+        ),
         (vec!["*2222", "-o", o, "--seconds", "0"], "--seconds"),
-        (vec!["*2222", "-o", o, "--convolve", "missing.wav"], "cannot read it"),
-        (vec!["*2222", "-o", o, "--echogram", "e.gif"], ".png or .svg"),
+        (
+            vec!["*2222", "-o", o, "--convolve", "missing.wav"],
+            "cannot read it",
+        ),
+        (
+            vec!["*2222", "-o", o, "--echogram", "e.gif"],
+            ".png or .svg",
+        ),
         (vec!["*23", "-o", o], "error"),
     ] {
         orbifold()

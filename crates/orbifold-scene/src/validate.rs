@@ -193,20 +193,44 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
 fn sound(p: &mut Problems, s: &Sound, height: f64, inside: &dyn Fn([f64; 2]) -> bool) {
     positive(p, "sound.metres_per_unit", s.metres_per_unit);
     positive(p, "sound.speed", s.speed);
-    range(p, "sound.seconds", s.seconds, 1e-3, 600.0, "the response's length in seconds");
+    range(
+        p,
+        "sound.seconds",
+        s.seconds,
+        1e-3,
+        600.0,
+        "the response's length in seconds",
+    );
     if !(8_000..=384_000).contains(&s.sample_rate) {
         p.push((
             "sound.sample_rate".into(),
-            format!("must be between 8000 and 384000 samples per second, not {}", s.sample_rate),
+            format!(
+                "must be between 8000 and 384000 samples per second, not {}",
+                s.sample_rate
+            ),
         ));
     }
-    range(p, "sound.min_level", s.min_level, -200.0, -1.0, "decibels below the direct sound at one metre");
+    range(
+        p,
+        "sound.min_level",
+        s.min_level,
+        -200.0,
+        -1.0,
+        "decibels below the direct sound at one metre",
+    );
     positive(p, "sound.listener_size", s.listener_size);
     positive(p, "sound.ear_distance", s.ear_distance);
     for (key, place) in [("sound.source", s.source), ("sound.listener", s.listener)] {
         if let Some(place) = place {
             position(p, &format!("{key}.at"), place.at, inside);
-            range(p, &format!("{key}.height"), place.height, 0.0, height, "between the floor and the ceiling");
+            range(
+                p,
+                &format!("{key}.height"),
+                place.height,
+                0.0,
+                height,
+                "between the floor and the ceiling",
+            );
         }
     }
     for (key, a) in [
@@ -215,8 +239,15 @@ fn sound(p: &mut Problems, s: &Sound, height: f64, inside: &dyn Fn([f64; 2]) -> 
         ("sound.floor_absorption", s.floor_absorption),
         ("sound.ceiling_absorption", s.ceiling_absorption),
     ] {
-        if !a.bands().iter().all(|&x| x.is_finite() && (0.0..=1.0).contains(&x)) {
-            p.push((key.into(), "absorption coefficients must be between 0 and 1".into()));
+        if !a
+            .bands()
+            .iter()
+            .all(|&x| x.is_finite() && (0.0..=1.0).contains(&x))
+        {
+            p.push((
+                key.into(),
+                "absorption coefficients must be between 0 and 1".into(),
+            ));
         }
     }
 }

@@ -2,6 +2,8 @@
 //! a Euclidean, a hyperbolic and a spherical room: the echoes and their signal.
 //! `cargo bench -p orbifold-sound --bench response`.
 
+#![allow(missing_docs)] // criterion_group! generates undocumented functions.
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use orbifold_scene::Scene;
 use orbifold_sound::Hearing;

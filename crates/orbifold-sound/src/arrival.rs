@@ -121,7 +121,8 @@ pub fn spread(space: Space, length: f64, sigma: f64, focus: f64) -> f64 {
         1.0 - space.kappa() * sigma * sigma / 6.0
     } else if space.kappa() > 0.0 {
         // |sin σ| is the sine of the distance to the nearest focus (σ = kπ).
-        let to_focus = (sigma - std::f64::consts::PI * (sigma / std::f64::consts::PI).round()).abs();
+        let to_focus =
+            (sigma - std::f64::consts::PI * (sigma / std::f64::consts::PI).round()).abs();
         let near = if sigma > 0.5 * std::f64::consts::PI {
             to_focus.max(focus)
         } else {

@@ -31,7 +31,12 @@ pub fn clap(sample_rate: u32) -> Vec<f32> {
         (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     };
     // Bursts at these times (s), each decaying with its time constant, the last the tail.
-    let bursts = [(0.0, 0.0015), (0.008, 0.0015), (0.016, 0.0015), (0.024, 0.03)];
+    let bursts = [
+        (0.0, 0.0015),
+        (0.008, 0.0015),
+        (0.016, 0.0015),
+        (0.024, 0.03),
+    ];
     let mut signal: Vec<f64> = (0..n)
         .map(|i| {
             let t = i as f64 / rate;

@@ -145,7 +145,9 @@ fn draw(
                 1 => "1 reflection".to_string(),
                 _ => format!("{} reflections", CLASSES[c].1),
             })
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], color.stroke_width(3)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 14, y)], color.stroke_width(3))
+            });
     }
     chart
         .configure_series_labels()

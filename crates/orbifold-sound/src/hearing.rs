@@ -57,7 +57,11 @@ impl Hearing {
         let z = space.to_model(listener.at);
         let t = space.model_tangent(z, Complex64::new(right.x, right.y));
         let n = space.point_dot(t, t).max(0.0).sqrt();
-        let right = if n > 0.0 { t / n } else { space.tangent_frame(listener.at)[1] };
+        let right = if n > 0.0 {
+            t / n
+        } else {
+            space.tangent_frame(listener.at)[1]
+        };
         Ok(Hearing {
             centre: space.to_ambient(layout.centre),
             room,

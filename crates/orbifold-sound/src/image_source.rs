@@ -180,7 +180,12 @@ mod tests {
         // Every tile up to a word length is found once: the counts by depth agree with the
         // Coxeter group's growth series (computed independently in `orbifold::growth`).
         // Reaches that take in every tile of depth 3 (the rectangle's are 3.25 by 2.33).
-        for (signature, reach) in [("*2222", 12.0), ("*444", 6.0), ("*2333", 6.0), ("*235", 6.0)] {
+        for (signature, reach) in [
+            ("*2222", 12.0),
+            ("*444", 6.0),
+            ("*2333", 6.0),
+            ("*235", 6.0),
+        ] {
             let (room, centre) = room(signature);
             let list = tiles(&room, centre, centre, reach);
             let series = orbifold::growth::growth_series(&signature.parse().unwrap(), 3).unwrap();

@@ -90,7 +90,7 @@ impl Listening<'_> {
             .map(|tile| {
                 let found = self.tile_echoes(tile, source, listener, reach);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if n % 256 == 0 || n == total {
+                if n.is_multiple_of(256) || n == total {
                     progress(n, total);
                 }
                 found
@@ -135,7 +135,8 @@ impl Listening<'_> {
         let settings = self.settings;
         let image = tile.matrix * source.at;
         let d = space.ambient_distance(listener.at, image);
-        let wall_best = largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall));
+        let wall_best =
+            largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall));
         let mut paths = Vec::new();
         let mut arrivals = Vec::new();
         let mut lost = 0;
@@ -170,7 +171,8 @@ impl Listening<'_> {
                 continue;
             };
             if space.kappa() > 0.0 {
-                let walls = largest(&path.fixed) * path.partial_best.powi(path.partial.len() as i32);
+                let walls =
+                    largest(&path.fixed) * path.partial_best.powi(path.partial.len() as i32);
                 quiet[turn as usize % 2] = walls * self.focus_bound(sigma) < settings.min_amplitude;
             }
             let index = paths.len() as u32;
@@ -189,7 +191,9 @@ impl Listening<'_> {
     pub fn reach(&self) -> f64 {
         let space = self.room.space;
         let time = self.settings.reach();
-        if space.kappa() > 0.0 || self.spreading_bound(space, time, time) >= self.settings.min_amplitude {
+        if space.kappa() > 0.0
+            || self.spreading_bound(space, time, time) >= self.settings.min_amplitude
+        {
             return time;
         }
         // J(ℓ, ℓ) grows with ℓ: bisect for the length where the bound meets the limit.
@@ -255,7 +259,11 @@ impl Listening<'_> {
                 if bound < settings.min_amplitude {
                     break;
                 }
-                let slope = if path.sigma > 0.0 { rise / path.sigma } else { 0.0 };
+                let slope = if path.sigma > 0.0 {
+                    rise / path.sigma
+                } else {
+                    0.0
+                };
                 let walls = path.walls_reflection(self.room, &settings.reflection, |s| {
                     fold_height(listener.height + s * slope, self.room.height)
                 });
@@ -314,7 +322,11 @@ impl Response {
         let rise = z - self.listener.height;
         // Every surface by the fraction τ of the path at which it is met.
         let mut met: Vec<(f64, Bounce)> = Vec::new();
-        let slope = if path.sigma > 0.0 { rise / path.sigma } else { 0.0 };
+        let slope = if path.sigma > 0.0 {
+            rise / path.sigma
+        } else {
+            0.0
+        };
         for c in &path.crossings {
             let height = fold_height(self.listener.height + c.sigma * slope, h);
             met.push((

@@ -22,14 +22,20 @@ pub const PEAK: f32 = 0.9;
 pub fn encode(channels: &[Vec<f32>], sample_rate: u32) -> Result<(Vec<u8>, f32), SoundError> {
     let count = channels.len();
     if !(1..=2).contains(&count) {
-        return Err(SoundError::Wav(format!("{count} channels: only mono and stereo are written")));
+        return Err(SoundError::Wav(format!(
+            "{count} channels: only mono and stereo are written"
+        )));
     }
     let peak = channels
         .iter()
         .flatten()
         .map(|x| x.abs())
         .fold(0.0f32, f32::max);
-    let scale = if peak > 0.0 && peak.is_finite() { PEAK / peak } else { 1.0 };
+    let scale = if peak > 0.0 && peak.is_finite() {
+        PEAK / peak
+    } else {
+        1.0
+    };
     let spec = hound::WavSpec {
         channels: count as u16,
         sample_rate,

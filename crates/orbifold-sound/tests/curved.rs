@@ -44,7 +44,11 @@ fn check(signature: &str, seconds: f64, max_checked: usize) {
     let space = room.space;
     let r = hearing.settings.metres_per_unit;
     let (source, listener) = (hearing.source, hearing.listener);
-    assert!(response.arrivals.len() > 50, "{signature}: {}", response.arrivals.len());
+    assert!(
+        response.arrivals.len() > 50,
+        "{signature}: {}",
+        response.arrivals.len()
+    );
     let mut short_way = 0;
     let step = (response.arrivals.len() / max_checked).max(1);
     for a in response.arrivals.iter().step_by(step) {

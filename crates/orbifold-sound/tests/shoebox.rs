@@ -118,11 +118,18 @@ fn compare(scene: &Scene) -> usize {
     let r = settings.metres_per_unit;
     let local = |at: glam::DVec3, height: f64| {
         let p = DVec2::new(at.x, at.y) - frame.origin;
-        [p.dot(frame.axes[0]) * r, p.dot(frame.axes[1]) * r, height * r]
+        [
+            p.dot(frame.axes[0]) * r,
+            p.dot(frame.axes[1]) * r,
+            height * r,
+        ]
     };
     // Walls 0 and 2 of the layout carry mirrors (see `shoebox_scene`), the others none.
     let beta_of = |edge: usize| {
-        let mirrored = scene.wall_mirrors(edge).iter().any(|m| m.from <= 0.0 && m.to >= 1.0);
+        let mirrored = scene
+            .wall_mirrors(edge)
+            .iter()
+            .any(|m| m.from <= 0.0 && m.to >= 1.0);
         if mirrored {
             settings.reflection.mirror[0]
         } else {
@@ -138,7 +145,11 @@ fn compare(scene: &Scene) -> usize {
         settings.reflection.ceiling[0],
     ];
     let mut expected = allen_berkley(
-        [frame.sides[0] * r, frame.sides[1] * r, scene.room.height * r],
+        [
+            frame.sides[0] * r,
+            frame.sides[1] * r,
+            scene.room.height * r,
+        ],
         beta,
         local(hearing.source.at, hearing.source.height),
         local(hearing.listener.at, hearing.listener.height),
@@ -158,9 +169,7 @@ fn compare(scene: &Scene) -> usize {
         let start = ours.partition_point(|a| a.time < e.time - 1e-9);
         let found = (start..ours.len())
             .take_while(|&i| ours[i].time <= e.time + 1e-9)
-            .find(|&i| {
-                !used[i] && ((ours[i].amplitude - e.amplitude).abs() <= 1e-9 * e.amplitude)
-            });
+            .find(|&i| !used[i] && ((ours[i].amplitude - e.amplitude).abs() <= 1e-9 * e.amplitude));
         let i = found.unwrap_or_else(|| panic!("no echo matches {e:?}"));
         used[i] = true;
         assert!((ours[i].time - e.time).abs() < sample);

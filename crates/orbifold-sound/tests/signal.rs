@@ -65,7 +65,10 @@ fn absorption_by_band_and_air_filter_the_response() {
         let flat: Vec<_> = response
             .arrivals
             .iter()
-            .map(|a| orbifold_sound::Arrival { bands: [a.amplitude as f32; 7], ..*a })
+            .map(|a| orbifold_sound::Arrival {
+                bands: [a.amplitude as f32; 7],
+                ..*a
+            })
             .collect();
         orbifold_sound::impulse::impulse_response(&flat, 48_000, 0.2)
     };

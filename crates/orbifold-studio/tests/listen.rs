@@ -54,8 +54,18 @@ fn the_listen_button_plays_a_clap_through_the_room() {
     // Equal up to the common scale.
     let scale = ours.iter().fold(0.0f32, |m, x| m.max(x.abs()))
         / expected.iter().fold(0.0f32, |m, x| m.max(x.abs()));
-    assert!(ours.iter().zip(&expected).all(|(a, b)| (a - b * scale).abs() < 1e-4));
-    assert!(harness.state().listen.message.contains("echoes at each ear"));
+    assert!(
+        ours.iter()
+            .zip(&expected)
+            .all(|(a, b)| (a - b * scale).abs() < 1e-4)
+    );
+    assert!(
+        harness
+            .state()
+            .listen
+            .message
+            .contains("echoes at each ear")
+    );
 }
 
 #[test]

@@ -79,10 +79,16 @@ pub fn run(args: &ListenArgs) -> Result<(), CliError> {
         channels: channels.len(),
         scale,
         lost: responses.iter().map(|r| r.lost).sum(),
-        arrivals: if args.json { json(&responses[0]) } else { Vec::new() },
+        arrivals: if args.json {
+            json(&responses[0])
+        } else {
+            Vec::new()
+        },
         arrivals_right: (args.json && responses.len() > 1).then(|| json(&responses[1])),
     };
-    output::summary(args.json, &summary, || describe(&summary, &responses, &args.echogram))
+    output::summary(args.json, &summary, || {
+        describe(&summary, &responses, &args.echogram)
+    })
 }
 
 /// The responses (one, or the two ears'), with a progress bar over the tiles of the cover.
@@ -127,7 +133,10 @@ fn check_extension(path: &Path, allowed: &[&str], option: &str) -> Result<(), Cl
 
 fn read_dry(path: &Path, rate: u32) -> Result<Vec<f32>, CliError> {
     let bytes = std::fs::read(path).map_err(|e| {
-        CliError::Input(format!("--convolve {}: cannot read it: {e}", path.display()))
+        CliError::Input(format!(
+            "--convolve {}: cannot read it: {e}",
+            path.display()
+        ))
     })?;
     let (samples, from) = wav::decode_mono(&bytes)
         .map_err(|e| CliError::Input(format!("--convolve {}: {e}", path.display())))?;
@@ -151,7 +160,8 @@ fn write_echogram(hearing: &Hearing, response: &Response, path: &Path) -> Result
     let bytes = if is_png {
         echogram::echogram_png(&response.arrivals, &title, seconds, floor, size)
     } else {
-        echogram::echogram_svg(&response.arrivals, &title, seconds, floor, size).map(String::into_bytes)
+        echogram::echogram_svg(&response.arrivals, &title, seconds, floor, size)
+            .map(String::into_bytes)
     }
     .map_err(|e| CliError::Runtime(e.to_string()))?;
     output::write_atomic(path, &bytes)?;
@@ -190,7 +200,11 @@ fn describe(
         summary.output,
         summary.seconds,
         summary.sample_rate,
-        if summary.channels == 2 { "stereo" } else { "mono" },
+        if summary.channels == 2 {
+            "stereo"
+        } else {
+            "mono"
+        },
         summary.scale
     );
     if let Some(path) = echogram {
