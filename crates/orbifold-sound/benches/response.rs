@@ -20,7 +20,7 @@ fn hearing(signature: &str) -> Hearing {
     scene.lights[0].at = [c.re, c.im];
     let l = c + (v - c) * 0.5;
     scene.camera.at = [l.re, l.im];
-    Hearing::from_scene(&scene).expect("a scene that can be heard")
+    Hearing::from_scene(&scene, None).expect("a scene that can be heard")
 }
 
 fn responses(c: &mut Criterion) {

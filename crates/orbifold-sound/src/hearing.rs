@@ -1,6 +1,8 @@
 //! A scene, heard: its room with the `[sound]` table's settings, the source and the listener,
 //! and the responses at one ear or at two.
 
+use std::path::Path;
+
 use glam::DVec3;
 use num_complex::Complex64;
 use orbifold_scene::Scene;
@@ -19,7 +21,7 @@ use crate::settings::{Point, Settings, places};
 /// let mut scene = Scene::default();
 /// scene.orbifold.signature = "*2222".into();
 /// scene.sound.seconds = 0.1;
-/// let hearing = Hearing::from_scene(&scene)?;
+/// let hearing = Hearing::from_scene(&scene, None)?;
 /// let response = hearing.mono(&|_, _| {});
 /// assert!(response.arrivals.len() > 10);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -43,9 +45,10 @@ pub struct Hearing {
 }
 
 impl Hearing {
-    /// The room, settings, source and listener of a scene (which is checked first).
-    pub fn from_scene(scene: &Scene) -> Result<Hearing, SoundError> {
-        if let Err(errors) = scene.check(None) {
+    /// The room, settings, source and listener of a scene, which is checked first; `base` is
+    /// the folder its mesh and texture paths are relative to (the scene file's).
+    pub fn from_scene(scene: &Scene, base: Option<&Path>) -> Result<Hearing, SoundError> {
+        if let Err(errors) = scene.check(base) {
             let all: Vec<String> = errors.iter().map(ToString::to_string).collect();
             return Err(SoundError::Scene(all.join("; ")));
         }

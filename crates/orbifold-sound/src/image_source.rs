@@ -29,12 +29,14 @@ pub struct Tile {
     pub depth: u32,
 }
 
-/// At most this many tiles (a bound on memory for rooms whose cover grows fast).
-pub const MAX_TILES: usize = 4_000_000;
+/// At most this many tiles (a bound on memory, about 300 MB, for rooms whose cover grows
+/// fast: H² with a very low `min_level`).
+pub const MAX_TILES: usize = 2_000_000;
 
 /// The tiles whose centres are within `reach + radius` of `listener` (ambient, in the room),
 /// where `radius` is the room's (the farthest of its corners, or cusp cuts, from `centre`),
-/// breadth first: the identity first, then by word length.
+/// breadth first: the identity first, then by word length; at most [`MAX_TILES`] (then the
+/// farthest are missing: see [`crate::response::Response::truncated`]).
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};

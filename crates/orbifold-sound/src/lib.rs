@@ -27,7 +27,7 @@
 //! scene.camera.at = [0.1, 0.0];
 //! scene.lights[0].at = [-0.05, 0.05];
 //! scene.sound.seconds = 0.2;
-//! let hearing = Hearing::from_scene(&scene)?;
+//! let hearing = Hearing::from_scene(&scene, None)?;
 //! let response = hearing.mono(&|_, _| {});
 //! let ir = hearing.samples(&response);
 //! assert_eq!(ir.len(), 9600);

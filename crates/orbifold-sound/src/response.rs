@@ -40,6 +40,9 @@ pub struct Response {
     /// Image paths that did not arrive at the source when followed through the room (grazing
     /// a corner, or lost in a cusp), left out.
     pub lost: usize,
+    /// Whether the search for images stopped at [`crate::image_source::MAX_TILES`] before it
+    /// reached as far as the response can hear (the farthest echoes are then missing).
+    pub truncated: bool,
 }
 
 /// The listener's frame of reference for one response: the room, the settings and the places.
@@ -83,6 +86,7 @@ impl Listening<'_> {
     ) -> Response {
         let reach = self.reach();
         let list = tiles(self.room, self.centre, listener.at, reach);
+        let truncated = list.len() >= crate::image_source::MAX_TILES;
         let done = AtomicUsize::new(0);
         let total = list.len();
         let per_tile: Vec<(Vec<HorizontalPath>, Vec<Arrival>, usize)> = list
@@ -120,6 +124,7 @@ impl Listening<'_> {
             listener,
             room_height: self.room.height,
             lost,
+            truncated,
         }
     }
 

@@ -38,7 +38,7 @@ fn trace(room: &AnalyticRoom, mut ray: Ray, length: f64) -> (Vec<RoomSurface>, g
 
 fn check(signature: &str, seconds: f64, max_checked: usize) {
     let scene = common::scene(signature, seconds);
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let room = &hearing.room;
     let space = room.space;
@@ -129,7 +129,7 @@ fn the_sphere_brings_echoes_back_round() {
     // Echoes that went the long way round (σ > π) are heard, and among them some that went
     // round more than once.
     let scene = common::scene("*235", 0.6);
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let sigmas: Vec<f64> = response.paths.iter().map(|p| p.sigma).collect();
     assert!(sigmas.iter().any(|&s| s > std::f64::consts::PI));

@@ -12,7 +12,7 @@ use orbifold_sound::Hearing;
 fn energy_per_window(signature: &str, seconds: f64, windows: &[(f64, f64)], tolerance: f64) {
     let mut scene = common::lossless(common::scene(signature, seconds));
     scene.sound.min_level = -200.0;
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let layout = scene.layout().unwrap();
     let r = hearing.settings.metres_per_unit;

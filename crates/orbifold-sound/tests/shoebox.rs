@@ -111,7 +111,7 @@ fn box_frame(scene: &Scene) -> BoxFrame {
 /// Compares the response of a `*2222` scene with the classic model; returns the echoes
 /// compared.
 fn compare(scene: &Scene) -> usize {
-    let hearing = Hearing::from_scene(scene).unwrap();
+    let hearing = Hearing::from_scene(scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let settings = hearing.settings;
     let frame = box_frame(scene);

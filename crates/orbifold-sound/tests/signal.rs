@@ -11,7 +11,7 @@ use proptest::prelude::*;
 fn responses_are_finite_and_the_same_on_every_run() {
     for signature in ["*2222", "*444", "*235", "*2333"] {
         let scene = common::scene(signature, 0.1);
-        let hearing = Hearing::from_scene(&scene).unwrap();
+        let hearing = Hearing::from_scene(&scene, None).unwrap();
         let a = hearing.mono(&|_, _| {});
         let b = hearing.mono(&|_, _| {});
         assert_eq!(a.arrivals, b.arrivals, "{signature}");
@@ -36,7 +36,7 @@ fn the_ears_hear_a_source_on_the_right_first_on_the_right() {
         at: [cx, cy - 0.2],
         height: scene.camera.height,
     });
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let [left, right] = hearing.stereo(&|_, _| {});
     let first = |r: &orbifold_sound::Response| r.arrivals[0].time;
     let gap = first(&left) - first(&right);
@@ -50,7 +50,7 @@ fn absorption_by_band_and_air_filter_the_response() {
     let mut scene = common::scene("*2222", 0.2);
     scene.sound.wall_absorption = Absorption::Bands([0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6]);
     scene.sound.air = true;
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     // High bands lose more on every reflection and in the air.
     for a in response.arrivals.iter().filter(|a| a.reflections > 0) {
@@ -79,7 +79,7 @@ fn absorption_by_band_and_air_filter_the_response() {
 #[test]
 fn a_dry_clap_through_the_room_is_written_and_read_back() {
     let scene = common::scene("*444", 0.1);
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let ir = hearing.samples(&hearing.mono(&|_, _| {}));
     let dry = clap::clap(48_000);
     let wet = convolve::convolve(&dry, &ir).unwrap();
@@ -95,7 +95,7 @@ fn a_dry_clap_through_the_room_is_written_and_read_back() {
 #[test]
 fn echograms_are_drawn() {
     let scene = common::scene("*235", 0.2);
-    let hearing = Hearing::from_scene(&scene).unwrap();
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let svg = echogram::echogram_svg(&response.arrivals, "*235", 0.2, -60.0, (640, 300)).unwrap();
     assert!(svg.contains("time (s)"));
@@ -107,7 +107,7 @@ fn echograms_are_drawn() {
 fn bad_scenes_are_refused_with_the_key() {
     let mut scene = common::scene("*2222", 0.1);
     scene.sound.speed = -1.0;
-    let error = Hearing::from_scene(&scene).unwrap_err().to_string();
+    let error = Hearing::from_scene(&scene, None).unwrap_err().to_string();
     assert!(error.contains("sound.speed"), "{error}");
     let text = "[sound]\nsample_rate = 100\nfloor_absorption = 1.5\n";
     let errors = orbifold_scene::Scene::from_toml(text, None).unwrap_err();
@@ -132,7 +132,7 @@ proptest! {
         let q = c + (v[2] - c) * (0.6 * b);
         scene.sound.source = Some(orbifold_scene::sound::Place { at: [p.re, p.im], height: hs });
         scene.sound.listener = Some(orbifold_scene::sound::Place { at: [q.re, q.im], height: hl });
-        let hearing = Hearing::from_scene(&scene).unwrap();
+        let hearing = Hearing::from_scene(&scene, None).unwrap();
         let response = hearing.mono(&|_, _| {});
         let d = space.distance(p, q);
         let direct = (d * d + (hs - hl).powi(2)).sqrt() * hearing.settings.metres_per_unit;

@@ -301,9 +301,12 @@ impl Studio {
             }
             Tab::Tiling => self.tiling(ui),
             Tab::Render => self.render(ui),
-            Tab::Listen => self
-                .listen
-                .show(ui, self.document.scene(), &self.view.camera),
+            Tab::Listen => self.listen.show(
+                ui,
+                self.document.scene(),
+                self.document.base(),
+                &self.view.camera,
+            ),
         }
     }
 

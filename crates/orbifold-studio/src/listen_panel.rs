@@ -5,6 +5,7 @@
 //! The echoes are found in the background; the sound is played once they are, through an
 //! [`AudioOut`] (the speakers, or a recorder in tests).
 
+use std::path::Path;
 use std::sync::mpsc::{Receiver, channel};
 
 use num_complex::Complex64;
@@ -62,10 +63,10 @@ pub fn clap_scene(scene: &Scene, camera: &orbifold_scene::Camera) -> Result<Scen
     Ok(scene)
 }
 
-/// Hears a clap in `scene` (made by [`clap_scene`]): both ears' responses, convolved with the
-/// built-in clap, interleaved, and the echogram.
-pub fn hear(scene: &Scene) -> Result<Heard, String> {
-    let hearing = Hearing::from_scene(scene).map_err(|e| e.to_string())?;
+/// Hears a clap in `scene` (made by [`clap_scene`]; mesh and texture paths relative to `base`):
+/// both ears' responses, convolved with the built-in clap, interleaved, and the echogram.
+pub fn hear(scene: &Scene, base: Option<&Path>) -> Result<Heard, String> {
+    let hearing = Hearing::from_scene(scene, base).map_err(|e| e.to_string())?;
     let [left, right] = hearing.stereo(&|_, _| {});
     let rate = hearing.settings.sample_rate;
     let dry = clap::clap(rate);
@@ -133,13 +134,20 @@ impl ListenPanel {
         self.job.is_some()
     }
 
-    /// The tab: the button, what was heard, and the echogram.
-    pub fn show(&mut self, ui: &mut egui::Ui, scene: &Scene, camera: &orbifold_scene::Camera) {
+    /// The tab: the button, what was heard, and the echogram. `base` is the folder of the
+    /// scene's file.
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        scene: &Scene,
+        base: Option<&Path>,
+        camera: &orbifold_scene::Camera,
+    ) {
         self.collect(ui.ctx());
         ui.horizontal(|ui| {
             let button = ui.add_enabled(!self.busy(), egui::Button::new("Listen"));
             if button.clicked() {
-                self.start(scene, camera);
+                self.start(scene, base, camera);
             }
             if self.busy() {
                 ui.spinner();
@@ -158,7 +166,7 @@ impl ListenPanel {
         }
     }
 
-    fn start(&mut self, scene: &Scene, camera: &orbifold_scene::Camera) {
+    fn start(&mut self, scene: &Scene, base: Option<&Path>, camera: &orbifold_scene::Camera) {
         let scene = match clap_scene(scene, camera) {
             Ok(scene) => scene,
             Err(e) => {
@@ -167,8 +175,9 @@ impl ListenPanel {
             }
         };
         let (send, receive) = channel();
+        let base = base.map(Path::to_path_buf);
         std::thread::spawn(move || {
-            let _ = send.send(hear(&scene));
+            let _ = send.send(hear(&scene, base.as_deref()));
         });
         self.job = Some(receive);
     }

@@ -46,7 +46,7 @@ fn the_listen_button_plays_a_clap_through_the_room() {
     let (samples, channels, rate) = &played[0];
     assert_eq!((*channels, *rate), (2, 48_000));
     // The same clap through the same room, as the command line makes it.
-    let heard = Hearing::from_scene(&clap_scene(&scene, &camera).unwrap()).unwrap();
+    let heard = Hearing::from_scene(&clap_scene(&scene, &camera).unwrap(), None).unwrap();
     let [left, _] = heard.stereo(&|_, _| {});
     let expected = convolve::convolve(&clap::clap(48_000), &heard.samples(&left)).unwrap();
     assert_eq!(samples.len(), 2 * expected.len());

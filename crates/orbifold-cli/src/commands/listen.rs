@@ -40,7 +40,7 @@ pub fn run(args: &ListenArgs) -> Result<(), CliError> {
     if let Some(path) = &args.echogram {
         check_extension(path, &["png", "svg"], "--echogram")?;
     }
-    let (mut scene, _) = load(args.input.as_deref())?;
+    let (mut scene, base) = load(args.input.as_deref())?;
     if let Some(t) = args.seconds {
         if !(t.is_finite() && t > 0.0 && t <= 600.0) {
             return Err(CliError::Input(format!(
@@ -55,7 +55,8 @@ pub fn run(args: &ListenArgs) -> Result<(), CliError> {
         Some(None) => Some(clap::clap(scene.sound.sample_rate)),
         Some(Some(path)) => Some(read_dry(path, scene.sound.sample_rate)?),
     };
-    let hearing = Hearing::from_scene(&scene).map_err(|e| CliError::Input(e.to_string()))?;
+    let hearing =
+        Hearing::from_scene(&scene, base.as_deref()).map_err(|e| CliError::Input(e.to_string()))?;
     let responses = compute(&hearing, args)?;
     let mut channels: Vec<Vec<f32>> = responses.iter().map(|r| hearing.samples(r)).collect();
     if let Some(dry) = &dry {
@@ -112,6 +113,12 @@ fn compute(hearing: &Hearing, args: &ListenArgs) -> Result<Vec<Response>, CliErr
         vec![hearing.mono(&progress)]
     };
     bar.finish_and_clear();
+    if responses.iter().any(|r| r.truncated) {
+        eprintln!(
+            "warning: the room has more mirror images within hearing than can be held; the \
+             farthest echoes are missing (raise [sound] min_level or shorten the response)"
+        );
+    }
     Ok(responses)
 }
 
