@@ -129,9 +129,10 @@ impl HorizontalPath {
         let log = space.log(listener, image);
         let norm = space.point_dot(log, log).max(0.0).sqrt();
         if norm < 1e-12 {
-            // At the image itself (the direct sound from a source at the listener's own
-            // position, heard only vertically): no horizontal path; every way round the
-            // sphere leads back here, a focus that the listener's size accounts for.
+            // At the image itself (a source straight above or below the listener, or its
+            // image): the vertical path alone. Every great circle through the point comes
+            // back to it on the sphere, a whole family of paths with no one direction; they
+            // are left out (an exact alignment: a source a hair's breadth aside has them).
             return (turns == 0).then(|| HorizontalPath::vertical(space, listener));
         }
         let direction = if back { -log / norm } else { log / norm };

@@ -144,26 +144,32 @@ impl ListenPanel {
         camera: &orbifold_scene::Camera,
     ) {
         self.collect(ui.ctx());
-        ui.horizontal(|ui| {
-            let button = ui.add_enabled(!self.busy(), egui::Button::new("Listen"));
-            if button.clicked() {
-                self.start(scene, base, camera);
-            }
-            if self.busy() {
-                ui.spinner();
-                ui.label("finding the echoes…");
-                ui.ctx()
-                    .request_repaint_after(std::time::Duration::from_millis(100));
-            } else {
-                ui.label(&self.message);
+        // The button and what it heard on the left, the echogram beside them.
+        ui.horizontal_top(|ui| {
+            ui.vertical(|ui| {
+                ui.set_width(220.0);
+                let button = ui.add_enabled(!self.busy(), egui::Button::new("Listen"));
+                if button.clicked() {
+                    self.start(scene, base, camera);
+                }
+                if self.busy() {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label("finding the echoes…");
+                    });
+                    ui.ctx()
+                        .request_repaint_after(std::time::Duration::from_millis(100));
+                } else {
+                    ui.label(&self.message);
+                }
+                ui.label("A clap half a metre in front of the 3D view's camera, heard at its two ears through every echo off the walls, mirrors, floor and ceiling along the true geodesics ([sound] in the scene sets the units and absorption).");
+            });
+            if let Some(texture) = &self.echogram {
+                let size = texture.size_vec2();
+                let scale = (ui.available_width() / size.x).min(1.5);
+                ui.image((texture.id(), size * scale));
             }
         });
-        ui.label("A clap half a metre in front of the 3D view's camera, heard at its two ears through every echo off the walls, mirrors, floor and ceiling along the true geodesics ([sound] in the scene sets the units and absorption).");
-        if let Some(texture) = &self.echogram {
-            let size = texture.size_vec2();
-            let scale = (ui.available_width() / size.x).min(1.5);
-            ui.image((texture.id(), size * scale));
-        }
     }
 
     fn start(&mut self, scene: &Scene, base: Option<&Path>, camera: &orbifold_scene::Camera) {
