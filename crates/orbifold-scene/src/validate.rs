@@ -198,7 +198,7 @@ fn sound(p: &mut Problems, s: &Sound, height: f64, inside: &dyn Fn([f64; 2]) -> 
         "sound.seconds",
         s.seconds,
         1e-3,
-        600.0,
+        60.0,
         "the response's length in seconds",
     );
     if !(8_000..=384_000).contains(&s.sample_rate) {

@@ -23,6 +23,10 @@ use crate::image_source::{Tile, tiles};
 use crate::path::{HorizontalPath, mirrored};
 use crate::settings::{Point, Settings};
 
+/// At most this many echoes in one response (a bound on memory, about 600 MB, for rooms that
+/// absorb nothing heard down to a very low `min_level` for long).
+pub const MAX_ARRIVALS: usize = 10_000_000;
+
 /// Every echo between a source and a listener, sorted by time.
 #[derive(Clone, Debug)]
 pub struct Response {
@@ -41,7 +45,8 @@ pub struct Response {
     /// a corner, or lost in a cusp), left out.
     pub lost: usize,
     /// Whether the search for images stopped at [`crate::image_source::MAX_TILES`] before it
-    /// reached as far as the response can hear (the farthest echoes are then missing).
+    /// reached as far as the response can hear, or the echoes at [`MAX_ARRIVALS`] (some echoes
+    /// are then missing, and which depends on the threads' timing).
     pub truncated: bool,
 }
 
@@ -86,18 +91,19 @@ impl Listening<'_> {
     ) -> Response {
         let reach = self.reach();
         let list = tiles(self.room, self.centre, listener.at, reach);
-        let truncated = list.len() >= crate::image_source::MAX_TILES;
+        let too_many_tiles = list.len() >= crate::image_source::MAX_TILES;
         let done = AtomicUsize::new(0);
+        let found = AtomicUsize::new(0);
         let total = list.len();
         let per_tile: Vec<(Vec<HorizontalPath>, Vec<Arrival>, usize)> = list
             .par_iter()
             .map(|tile| {
-                let found = self.tile_echoes(tile, source, listener, reach);
+                let echoes = self.tile_echoes(tile, (source, listener), reach, &found);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(256) || n == total {
                     progress(n, total);
                 }
-                found
+                echoes
             })
             .collect();
         let mut paths = Vec::new();
@@ -124,7 +130,7 @@ impl Listening<'_> {
             listener,
             room_height: self.room.height,
             lost,
-            truncated,
+            truncated: too_many_tiles || found.load(Ordering::Relaxed) > MAX_ARRIVALS,
         }
     }
 
@@ -132,9 +138,9 @@ impl Listening<'_> {
     fn tile_echoes(
         &self,
         tile: &Tile,
-        source: Point,
-        listener: Point,
+        (source, listener): (Point, Point),
         reach: f64,
+        found: &AtomicUsize,
     ) -> (Vec<HorizontalPath>, Vec<Arrival>, usize) {
         let space = self.room.space;
         let settings = self.settings;
@@ -181,7 +187,7 @@ impl Listening<'_> {
                 quiet[turn as usize % 2] = walls * self.focus_bound(sigma) < settings.min_amplitude;
             }
             let index = paths.len() as u32;
-            self.slabs(&path, index, (source, listener), &mut arrivals);
+            self.slabs(&path, index, (source, listener), found, &mut arrivals);
             paths.push(path);
         }
         (paths, arrivals, lost)
@@ -237,6 +243,7 @@ impl Listening<'_> {
         path: &HorizontalPath,
         index: u32,
         (source, listener): (Point, Point),
+        found: &AtomicUsize,
         out: &mut Vec<Arrival>,
     ) {
         let space = self.room.space;
@@ -281,6 +288,10 @@ impl Listening<'_> {
                 };
                 let (bands, broadband) = amplitude(space, settings, &echo);
                 if largest(&bands) >= settings.min_amplitude {
+                    // Counted across the threads; past the limit nothing more is kept.
+                    if found.fetch_add(1, Ordering::Relaxed) >= MAX_ARRIVALS {
+                        return;
+                    }
                     let metres = length * settings.metres_per_unit;
                     out.push(Arrival {
                         time: metres / settings.speed,

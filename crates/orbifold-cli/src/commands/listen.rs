@@ -42,9 +42,9 @@ pub fn run(args: &ListenArgs) -> Result<(), CliError> {
     }
     let (mut scene, base) = load(args.input.as_deref())?;
     if let Some(t) = args.seconds {
-        if !(t.is_finite() && t > 0.0 && t <= 600.0) {
+        if !(t.is_finite() && t > 0.0 && t <= 60.0) {
             return Err(CliError::Input(format!(
-                "--seconds {t}: expected a length in seconds between 0 and 600"
+                "--seconds {t}: expected a length in seconds between 0 and 60"
             )));
         }
         scene.sound.seconds = t;
@@ -115,8 +115,8 @@ fn compute(hearing: &Hearing, args: &ListenArgs) -> Result<Vec<Response>, CliErr
     bar.finish_and_clear();
     if responses.iter().any(|r| r.truncated) {
         eprintln!(
-            "warning: the room has more mirror images within hearing than can be held; the \
-             farthest echoes are missing (raise [sound] min_level or shorten the response)"
+            "warning: the room has more mirror images or echoes within hearing than can be held; \
+             some echoes are missing (raise [sound] min_level or shorten the response)"
         );
     }
     Ok(responses)
