@@ -13,8 +13,11 @@ pub const OCTAVE_BANDS: [f64; 7] = [125.0, 250.0, 500.0, 1000.0, 2000.0, 4000.0,
 /// ```
 /// use orbifold_scene::sound::Absorption;
 /// assert_eq!(Absorption::Flat(0.2).bands(), [0.2; 7]);
+/// let error = orbifold_scene::Scene::from_toml("[sound]\nwall_absorption = [0.1, 0.2]\n", None)
+///     .unwrap_err();
+/// assert!(error[0].message.contains("seven absorption coefficients"), "{}", error[0]);
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Absorption {
     /// The same α at every frequency.
@@ -30,6 +33,50 @@ impl Absorption {
             Absorption::Flat(a) => [a; 7],
             Absorption::Bands(b) => b,
         }
+    }
+}
+
+impl<'de> Deserialize<'de> for Absorption {
+    /// A number, or an array of seven, with a message that says so for anything else.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(AbsorptionVisitor)
+    }
+}
+
+struct AbsorptionVisitor;
+
+impl<'de> serde::de::Visitor<'de> for AbsorptionVisitor {
+    type Value = Absorption;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(
+            "an absorption coefficient from 0 to 1, or seven, one per octave band from 125 Hz to 8 kHz",
+        )
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Absorption, E> {
+        Ok(Absorption::Flat(v))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Absorption, E> {
+        Ok(Absorption::Flat(v as f64))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Absorption, E> {
+        Ok(Absorption::Flat(v as f64))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Absorption, A::Error> {
+        let mut values = Vec::new();
+        while let Some(v) = seq.next_element::<f64>()? {
+            values.push(v);
+        }
+        let count = values.len();
+        <[f64; 7]>::try_from(values).map(Absorption::Bands).map_err(|_| {
+            serde::de::Error::custom(format!(
+                "expected seven absorption coefficients, one per octave band from 125 Hz to 8 kHz, not {count}"
+            ))
+        })
     }
 }
 
