@@ -37,8 +37,13 @@ fn trace(room: &AnalyticRoom, mut ray: Ray, length: f64) -> (Vec<RoomSurface>, g
 }
 
 fn check(signature: &str, seconds: f64, max_checked: usize) {
-    let scene = common::scene(signature, seconds);
-    let hearing = Hearing::from_scene(&scene, None).unwrap();
+    check_scene(&common::scene(signature, seconds), max_checked);
+}
+
+/// [`check`] for any scene: every echo (up to `max_checked`, spread over the response) is traced.
+fn check_scene(scene: &orbifold_scene::Scene, max_checked: usize) {
+    let signature = scene.orbifold.signature.as_str();
+    let hearing = Hearing::from_scene(scene, None).unwrap();
     let response = hearing.mono(&|_, _| {});
     let room = &hearing.room;
     let space = room.space;
@@ -108,6 +113,29 @@ fn check(signature: &str, seconds: f64, max_checked: usize) {
             );
             let time = expected / hearing.settings.speed;
             assert!((a.time - time).abs() < 1e-12, "{signature}");
+            // Its amplitude: 1/(4π√J), J = ℓ²·S_κ(σ)/σ in square metres, times every
+            // surface's reflection coefficient (flat absorption: any band).
+            let reflection = &hearing.settings.reflection;
+            let surfaces: f64 = bounces
+                .iter()
+                .map(|b| match (b.surface, b.mirror) {
+                    (RoomSurface::Floor, _) => reflection.floor[0],
+                    (RoomSurface::Ceiling, _) => reflection.ceiling[0],
+                    (RoomSurface::Wall(_), true) => reflection.mirror[0],
+                    (RoomSurface::Wall(_), false) => reflection.wall[0],
+                })
+                .product();
+            let focus = 0.5 * hearing.settings.listener_size / r;
+            let away_from_focus = space.kappa() <= 0.0 || (std::f64::consts::PI - d) > focus;
+            if away_from_focus && d > 1e-6 {
+                let j = expected * expected * space.sin(d).abs() / d;
+                let amplitude = surfaces / (4.0 * std::f64::consts::PI * j.sqrt());
+                assert!(
+                    (a.amplitude - amplitude).abs() < 1e-9 * amplitude,
+                    "{signature}: amplitude {} expected {amplitude}",
+                    a.amplitude
+                );
+            }
         }
     }
     assert!(short_way > 0, "{signature}");
@@ -122,6 +150,28 @@ fn echoes_in_a_spherical_room_are_traced_geodesics() {
 fn echoes_in_hyperbolic_rooms_are_traced_geodesics() {
     check("*444", 0.15, 400);
     check("*2333", 0.15, 400);
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(8))]
+    #[test]
+    fn echoes_are_traced_geodesics_wherever_source_and_listener_are(
+        g in 0usize..3,
+        (a, b, c) in (0.0f64..0.9, 0.0f64..0.9, 0.0f64..1.0),
+        (hs, hl) in (0.05f64..0.95, 0.05f64..0.95),
+    ) {
+        let signature = ["*235", "*444", "*2333"][g];
+        let mut scene = common::scene(signature, 0.08);
+        let layout = scene.layout().unwrap();
+        let v: Vec<_> = layout.vertices.iter().map(|v| v.position).collect();
+        let centre = layout.centre;
+        // Points inside the convex polygon: towards a corner, and between two others.
+        let p = centre + (v[0] - centre) * a;
+        let q = centre + ((v[1] - centre) * c + (v[2] - centre) * (1.0 - c)) * b;
+        scene.sound.source = Some(orbifold_scene::sound::Place { at: [p.re, p.im], height: hs });
+        scene.sound.listener = Some(orbifold_scene::sound::Place { at: [q.re, q.im], height: hl });
+        check_scene(&scene, 60);
+    }
 }
 
 #[test]
