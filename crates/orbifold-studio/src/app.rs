@@ -282,6 +282,7 @@ impl Studio {
     }
 
     fn middle(&mut self, ui: &mut Ui) {
+        self.listen.collect(ui.ctx());
         ui.horizontal(|ui| {
             ui.selectable_value(&mut self.tab, Tab::View, "3D view");
             ui.selectable_value(&mut self.tab, Tab::Tiling, "tiling");

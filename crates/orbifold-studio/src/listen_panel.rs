@@ -188,8 +188,9 @@ impl ListenPanel {
         self.job = Some(receive);
     }
 
-    /// Takes the background work's result when it is there: plays it and shows its echogram.
-    fn collect(&mut self, ctx: &egui::Context) {
+    /// Takes the background work's result when it is there: plays it and shows its echogram
+    /// (called every frame, whichever tab is shown, so the sound plays as soon as it is heard).
+    pub fn collect(&mut self, ctx: &egui::Context) {
         let Some(job) = &self.job else { return };
         let Ok(result) = job.try_recv() else { return };
         self.job = None;
