@@ -73,6 +73,11 @@ pub struct Splat {
     pub y: u32,
     /// Its radiance.
     pub radiance: [f64; 3],
+    /// How much it counts among its pixel's own samples (1 for a plain mean): the pixel's own
+    /// value is Σ wᵢ Lᵢ / Σ wᵢ. Adaptive sampling weights the samples of each of its stages so
+    /// that every stage keeps a share of the pixel's value fixed in advance
+    /// ([`crate::render`]), which keeps the estimate unbiased.
+    pub weight: f64,
 }
 
 impl Film {
@@ -255,8 +260,10 @@ impl Film {
         self.add_at(own, radiance);
     }
 
-    /// [`Film::splat`] for many samples at once (the pixels near the samples' pixels are
-    /// filtered afresh once, in parallel over rows, at the end; the others keep their value).
+    /// [`Film::splat`] for many samples at once, each with its weight among its pixel's own
+    /// samples ([`Splat::weight`]; a sample whose weight is not positive is dropped like a
+    /// non-finite one). The pixels near the samples' pixels are filtered afresh once, in
+    /// parallel over rows, at the end; the others keep their value.
     ///
     /// # Panics
     ///
@@ -267,8 +274,8 @@ impl Film {
     /// use orbifold_render::film::PixelFilter;
     ///
     /// let samples = [
-    ///     Splat { x: 1, y: 0, radiance: [1.0; 3] },
-    ///     Splat { x: 0, y: 1, radiance: [3.0; 3] },
+    ///     Splat { x: 1, y: 0, radiance: [1.0; 3], weight: 1.0 },
+    ///     Splat { x: 0, y: 1, radiance: [3.0; 3], weight: 1.0 },
     /// ];
     /// let (mut one_by_one, mut at_once) = (Film::new(3, 2), Film::new(3, 2));
     /// for s in &samples {
@@ -284,13 +291,15 @@ impl Film {
         let mut changed = (filter == self.filter).then(|| vec![false; self.own.len()]);
         self.filter = filter;
         for s in samples {
-            if !s.radiance.iter().all(|c| c.is_finite()) {
+            let counts =
+                s.radiance.iter().all(|c| c.is_finite()) && s.weight.is_finite() && s.weight > 0.0;
+            if !counts {
                 self.dropped += 1;
                 continue;
             }
             let i = self.index(s.x, s.y);
             self.count[i] += 1;
-            self.own[i].add(s.radiance, 1.0);
+            self.own[i].add(s.radiance, s.weight);
             if let Some(changed) = &mut changed {
                 changed[i] = true;
             }

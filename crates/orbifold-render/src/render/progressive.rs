@@ -1,6 +1,7 @@
-//! The render loop: progressive rounds of one sample per pixel (or, with adaptive sampling, of
-//! the pixels that need them), in parallel, into an HDR [`Film`]; stops after the wanted
-//! samples, at a time limit, at a noise target, or when asked to.
+//! The render loop: progressive rounds of one sample per pixel (or, with adaptive sampling, as
+//! many for each pixel as its stage's allocation gives it in that round: `adaptive.rs`), in
+//! parallel, into an HDR [`Film`]; stops after the wanted samples, at a time limit, at a noise
+//! target, or when asked to.
 //!
 //! With a radiance cache ([`crate::radiance_cache`]), the first round is taken in two halves, a
 //! checkerboard: with no cache to read, its paths are traced in full, about twice a later
@@ -14,8 +15,8 @@ use orbifold_scene::Scene;
 use orbifold_trace::camera::Camera;
 use rayon::prelude::*;
 
-use super::adaptive::{Target, noisiest};
-use super::options::{FULL_ROUND_EVERY, FULL_ROUND_EVERY_DENOISED, RenderOptions, WARMUP_ROUNDS};
+use super::adaptive::{Target, allocate, samples_in_round, stage_length};
+use super::options::{RenderOptions, WARMUP_ROUNDS};
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::{Film, Splat};
 use crate::integrator::{FirstHit, Integrator, PathSample, Settings};
@@ -141,8 +142,10 @@ pub struct Progressive<'a> {
     rays: u64,
     rounds: u32,
     /// The denoiser's variance reduction per pixel, when adaptive sampling aims at a denoised
-    /// image (refreshed at rounds 4, 8, 16, …).
+    /// image (refreshed at the start of every stage).
     reduction: Option<Vec<f64>>,
+    /// The stage of adaptive sampling this round belongs to.
+    stage: Stage,
     /// The radiance cache for far mirror images, filled from the rounds so far
     /// ([`crate::radiance_cache`]).
     cache: Option<RadianceCache>,
@@ -150,6 +153,36 @@ pub struct Progressive<'a> {
     /// from round to round: a large round holds hundreds of megabytes, and fresh memory each
     /// round costs more in page faults than the bookkeeping itself.
     buffers: RoundBuffers,
+}
+
+/// A stage of adaptive sampling (`adaptive.rs`): `rounds` rounds from `first_round`, in which
+/// pixel j takes `counts[j]` samples, each weighted `rounds / counts[j]` among the pixel's own
+/// samples; without `counts`, one sample a round each, weighted 1.
+struct Stage {
+    first_round: u32,
+    rounds: u32,
+    counts: Option<Vec<u32>>,
+    /// The seed of the stage's samples. A stage with `counts` draws its samples afresh, the
+    /// first `counts[j]` of each pixel's stratified sequence under a seed of its own: the
+    /// later samples of one sequence fill the strata that its earlier ones left, so they would
+    /// depend on the samples that decided their number (a bias of 0.1 % in a furnace at 64
+    /// samples a pixel).
+    seed: u64,
+}
+
+impl Stage {
+    /// The seed of the samples of a stage from `first_round`, for a render with `seed`: the
+    /// render's own for the first stage.
+    fn seed(seed: u64, first_round: u32) -> u64 {
+        seed.wrapping_add(u64::from(first_round).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+    }
+
+    /// The weight of pixel `pixel`'s samples in this stage.
+    fn weight(&self, pixel: usize) -> f64 {
+        self.counts.as_ref().map_or(1.0, |counts| {
+            f64::from(self.rounds) / f64::from(counts[pixel])
+        })
+    }
 }
 
 /// Memory reused by every round ([`Progressive::round`]).
@@ -180,6 +213,12 @@ impl<'a> Progressive<'a> {
             rays: 0,
             rounds: 0,
             reduction: None,
+            stage: Stage {
+                first_round: 0,
+                rounds: 0,
+                counts: None,
+                seed: options.seed,
+            },
             cache: integrator.uses_radiance_cache().then(RadianceCache::new),
             buffers: RoundBuffers::default(),
         }
@@ -190,38 +229,28 @@ impl<'a> Progressive<'a> {
         u64::from(self.options.samples) * self.taken.len() as u64
     }
 
-    /// One more round: one sample for every pixel, or with adaptive sampling after the first
-    /// rounds, for the noisiest ones (see the module documentation).
+    /// One more round: one sample for every pixel, or with adaptive sampling after the warm-up,
+    /// each pixel's share of its stage's samples (`adaptive.rs`).
     pub fn round(&mut self) {
-        let options = &self.options;
-        let (width, height) = (options.width, options.height);
+        let (width, height) = (self.options.width, self.options.height);
         let pixels = u64::from(width) * u64::from(height);
         if pixels == 0 {
             return;
         }
-        let full_every = if options.denoised {
-            FULL_ROUND_EVERY_DENOISED
-        } else {
-            FULL_ROUND_EVERY
-        };
-        let adaptive_round = options.adaptive
-            && self.rounds >= WARMUP_ROUNDS
-            && !self.rounds.is_multiple_of(full_every);
-        let refresh = options.adaptive && options.denoised && self.rounds >= WARMUP_ROUNDS;
-        if refresh && self.rounds.is_power_of_two() {
-            let (_, reduction) =
-                denoise_with_reduction(&self.film, &self.guides, &DenoiseOptions::default());
-            self.reduction = Some(reduction);
+        if self.rounds - self.stage.first_round >= self.stage.rounds {
+            self.start_stage();
         }
-        let chosen = adaptive_round
-            .then(|| {
-                let target = match &self.reduction {
-                    Some(reduction) if options.denoised => Target::Denoised(reduction),
-                    _ => Target::Raw,
-                };
-                noisiest(&self.film, &self.taken, target)
-            })
-            .flatten();
+        let round = self.rounds - self.stage.first_round;
+        let chosen = self.stage.counts.as_ref().map(|counts| {
+            let rounds = self.stage.rounds;
+            counts
+                .iter()
+                .enumerate()
+                .flat_map(|(p, &count)| {
+                    samples_in_round(count, round, rounds).map(move |k| (p as u64, k))
+                })
+                .collect::<Vec<_>>()
+        });
         match chosen {
             Some(list) => self.take(Some(&list)),
             None if self.rounds == 0 && self.cache.is_some() => {
@@ -234,6 +263,7 @@ impl<'a> Progressive<'a> {
                         .map(|p| (p, 0))
                         .collect()
                 };
+                // (Sample 0 of each pixel: the first round.)
                 self.take(Some(&half(0)));
                 self.take(Some(&half(1)));
             }
@@ -242,12 +272,56 @@ impl<'a> Progressive<'a> {
         self.rounds += 1;
     }
 
-    /// Traces the samples `chosen` ((pixel, which of its new samples), in pixel order), or one
-    /// for every pixel, and adds them to the film, the guides and the radiance cache.
+    /// Starts the next stage: its length, and with adaptive sampling after the warm-up, each
+    /// pixel's samples in it, from the image so far (`adaptive.rs`).
+    fn start_stage(&mut self) {
+        let options = &self.options;
+        let first_round = self.rounds;
+        if !options.adaptive {
+            self.stage = Stage {
+                first_round,
+                rounds: u32::MAX,
+                counts: None,
+                seed: options.seed,
+            };
+            return;
+        }
+        let rounds = stage_length(first_round, options.samples);
+        let counts = if first_round >= WARMUP_ROUNDS {
+            if options.denoised {
+                let (_, reduction) =
+                    denoise_with_reduction(&self.film, &self.guides, &DenoiseOptions::default());
+                self.reduction = Some(reduction);
+            }
+            let target = match &self.reduction {
+                Some(reduction) if options.denoised => Target::Denoised(reduction),
+                _ => Target::Raw,
+            };
+            allocate(&self.film, &self.taken, target, rounds)
+        } else {
+            None
+        };
+        let seed = if counts.is_some() {
+            Stage::seed(options.seed, first_round)
+        } else {
+            options.seed
+        };
+        self.stage = Stage {
+            first_round,
+            rounds,
+            counts,
+            seed,
+        };
+    }
+
+    /// Traces the samples `chosen` ((pixel, the sample's index in the pixel's sequence under
+    /// the stage's seed), in pixel order), or the next one of every pixel, and adds them to the
+    /// film, the guides and the radiance cache.
     fn take(&mut self, chosen: Option<&[(u64, u32)]>) {
         let options = &self.options;
         let (width, height) = (options.width, options.height);
         let taken = &self.taken;
+        let seed = self.stage.seed;
         let cache = self.cache.as_ref();
         let (integrator, camera) = (self.integrator, self.camera);
         let trace = |pixel: u64, index: u32| {
@@ -255,19 +329,21 @@ impl<'a> Progressive<'a> {
                 (pixel % u64::from(width)) as u32,
                 (pixel / u64::from(width)) as u32,
             );
-            let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(index));
+            let mut sampler = Sampler::stratified(seed, pixel, u64::from(index));
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height, offset);
-            let sample = integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler);
+            // The pixel reads the cache's cells that hold as many estimates as it has samples.
+            let reader = cache.map(|c| c.reader(taken[pixel as usize]));
+            let sample =
+                integrator.sample_pixel_cached(&ray, Some(footprint), reader, &mut sampler);
             (pixel, sample)
         };
-        // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
         let buffers = &mut self.buffers;
         match chosen {
             Some(list) => list
                 .par_iter()
-                .map(|&(p, k)| trace(p, taken[p as usize] + k))
+                .map(|&(p, index)| trace(p, index))
                 .collect_into_vec(&mut buffers.results),
             None => (0..taken.len())
                 .into_par_iter()
@@ -275,6 +351,7 @@ impl<'a> Progressive<'a> {
                 .collect_into_vec(&mut buffers.results),
         }
         let results = &buffers.results;
+        let stage = &self.stage;
         // In pixel order, so in row order as splatting wants.
         // Copied out in parallel (in order: `collect_into_vec` keeps it).
         results
@@ -284,6 +361,7 @@ impl<'a> Progressive<'a> {
                     x: (pixel % u64::from(width)) as u32,
                     y: (pixel / u64::from(width)) as u32,
                     radiance: value.radiance,
+                    weight: stage.weight(*pixel as usize),
                 };
                 (splat, value.first)
             })
