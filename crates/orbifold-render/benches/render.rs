@@ -213,7 +213,6 @@ fn splatting(c: &mut Criterion) {
                 x: p % size,
                 y: p / size,
                 radiance: [s.next_f64(), 0.5, 0.25],
-                weight: 1.0,
             };
             let first = FirstHit {
                 albedo: [0.5; 3],

@@ -640,7 +640,6 @@ fn rounds_of_paths_refilter_exactly_the_guides_they_change() {
                             x,
                             y,
                             radiance: [2.0 * v; 3],
-                            weight: 1.0,
                         };
                         paths.push((splat, first));
                     }

@@ -659,7 +659,6 @@ fn an_edge_is_not_noise() {
                         x,
                         y,
                         radiance: [v; 3],
-                        weight: 1.0,
                     });
                 }
             }
@@ -1077,7 +1076,6 @@ fn round_of_splats(rng: &mut Sampler, w: u32, h: u32) -> Vec<orbifold_render::fi
                     x,
                     y,
                     radiance: [v, 0.5 * v, 1.0],
-                    weight: 1.0,
                 });
             }
         }

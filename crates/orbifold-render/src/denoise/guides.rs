@@ -261,7 +261,7 @@ impl Guides {
         for (s, first) in samples {
             let i = self.index(s.x, s.y);
             if let Some(path) = GuidePath::new(first, s.radiance) {
-                self.own[i].add(&path, s.weight);
+                self.own[i].add(&path, 1.0);
                 if let Some(changed) = &mut changed {
                     changed[i] = true;
                 }

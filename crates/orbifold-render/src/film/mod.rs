@@ -73,11 +73,6 @@ pub struct Splat {
     pub y: u32,
     /// Its radiance.
     pub radiance: [f64; 3],
-    /// How much it counts among its pixel's own samples (1 for a plain mean): the pixel's own
-    /// value is Σ wᵢ Lᵢ / Σ wᵢ. Adaptive sampling weights the samples of each of its stages so
-    /// that every stage keeps a share of the pixel's value fixed in advance
-    /// ([`crate::render`]), which keeps the estimate unbiased.
-    pub weight: f64,
 }
 
 impl Film {
@@ -260,10 +255,8 @@ impl Film {
         self.add_at(own, radiance);
     }
 
-    /// [`Film::splat`] for many samples at once, each with its weight among its pixel's own
-    /// samples ([`Splat::weight`]; a sample whose weight is not positive is dropped like a
-    /// non-finite one). The pixels near the samples' pixels are filtered afresh once, in
-    /// parallel over rows, at the end; the others keep their value.
+    /// [`Film::splat`] for many samples at once (the pixels near the samples' pixels are
+    /// filtered afresh once, in parallel over rows, at the end; the others keep their value).
     ///
     /// # Panics
     ///
@@ -274,8 +267,8 @@ impl Film {
     /// use orbifold_render::film::PixelFilter;
     ///
     /// let samples = [
-    ///     Splat { x: 1, y: 0, radiance: [1.0; 3], weight: 1.0 },
-    ///     Splat { x: 0, y: 1, radiance: [3.0; 3], weight: 1.0 },
+    ///     Splat { x: 1, y: 0, radiance: [1.0; 3] },
+    ///     Splat { x: 0, y: 1, radiance: [3.0; 3] },
     /// ];
     /// let (mut one_by_one, mut at_once) = (Film::new(3, 2), Film::new(3, 2));
     /// for s in &samples {
@@ -291,15 +284,13 @@ impl Film {
         let mut changed = (filter == self.filter).then(|| vec![false; self.own.len()]);
         self.filter = filter;
         for s in samples {
-            let counts =
-                s.radiance.iter().all(|c| c.is_finite()) && s.weight.is_finite() && s.weight > 0.0;
-            if !counts {
+            if !s.radiance.iter().all(|c| c.is_finite()) {
                 self.dropped += 1;
                 continue;
             }
             let i = self.index(s.x, s.y);
             self.count[i] += 1;
-            self.own[i].add(s.radiance, s.weight);
+            self.own[i].add(s.radiance, 1.0);
             if let Some(changed) = &mut changed {
                 changed[i] = true;
             }
@@ -522,6 +513,40 @@ impl Film {
                 let at = tone_curve(l, exposure);
                 let up = tone_curve(l + se, exposure) - at;
                 let down = at - tone_curve((l - se).max(0.0), exposure);
+                255.0 * up.max(down)
+            })
+            .collect()
+    }
+
+    /// How far one sample of each pixel's own (not its neighbours', whatever the filter) moves
+    /// that pixel's own mean on screen, in 8-bit display levels at `exposure`: the step that one
+    /// standard deviation of its samples' luminance makes through the tone curve (the larger
+    /// of the steps up and down), row by row. Infinite for pixels with fewer than two samples.
+    /// What the adaptive sampler allocates by: it depends on that pixel's samples alone.
+    ///
+    /// ```
+    /// use orbifold_render::film::{Film, PixelFilter};
+    ///
+    /// let mut film = Film::new(2, 1);
+    /// for v in [0.1, 0.3, 0.1, 0.3] {
+    ///     film.splat(0, 0, [v; 3], PixelFilter::GAUSSIAN);
+    ///     film.splat(1, 0, [0.2; 3], PixelFilter::GAUSSIAN);
+    /// }
+    /// let levels = film.sample_display_noise(0.0);
+    /// // Pixel 1's own samples agree, whatever its neighbour's do.
+    /// assert!(levels[0] > 5.0 && levels[1] == 0.0);
+    /// ```
+    pub fn sample_display_noise(&self, exposure: f64) -> Vec<f64> {
+        self.own
+            .par_iter()
+            .map(|own| {
+                let Some(variance) = own.sample_variance() else {
+                    return f64::INFINITY;
+                };
+                let (l, sd) = (own.mean_luminance().max(0.0), variance.sqrt());
+                let at = tone_curve(l, exposure);
+                let up = tone_curve(l + sd, exposure) - at;
+                let down = at - tone_curve((l - sd).max(0.0), exposure);
                 255.0 * up.max(down)
             })
             .collect()

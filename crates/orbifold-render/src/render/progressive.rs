@@ -156,33 +156,11 @@ pub struct Progressive<'a> {
 }
 
 /// A stage of adaptive sampling (`adaptive.rs`): `rounds` rounds from `first_round`, in which
-/// pixel j takes `counts[j]` samples, each weighted `rounds / counts[j]` among the pixel's own
-/// samples; without `counts`, one sample a round each, weighted 1.
+/// pixel j takes `counts[j]` samples; without `counts`, one a round each.
 struct Stage {
     first_round: u32,
     rounds: u32,
     counts: Option<Vec<u32>>,
-    /// The seed of the stage's samples. A stage with `counts` draws its samples afresh, the
-    /// first `counts[j]` of each pixel's stratified sequence under a seed of its own: the
-    /// later samples of one sequence fill the strata that its earlier ones left, so they would
-    /// depend on the samples that decided their number (a bias of 0.1 % in a furnace at 64
-    /// samples a pixel).
-    seed: u64,
-}
-
-impl Stage {
-    /// The seed of the samples of a stage from `first_round`, for a render with `seed`: the
-    /// render's own for the first stage.
-    fn seed(seed: u64, first_round: u32) -> u64 {
-        seed.wrapping_add(u64::from(first_round).wrapping_mul(0x9E37_79B9_7F4A_7C15))
-    }
-
-    /// The weight of pixel `pixel`'s samples in this stage.
-    fn weight(&self, pixel: usize) -> f64 {
-        self.counts.as_ref().map_or(1.0, |counts| {
-            f64::from(self.rounds) / f64::from(counts[pixel])
-        })
-    }
 }
 
 /// Memory reused by every round ([`Progressive::round`]).
@@ -217,7 +195,6 @@ impl<'a> Progressive<'a> {
                 first_round: 0,
                 rounds: 0,
                 counts: None,
-                seed: options.seed,
             },
             cache: integrator.uses_radiance_cache().then(RadianceCache::new),
             buffers: RoundBuffers::default(),
@@ -242,12 +219,14 @@ impl<'a> Progressive<'a> {
         }
         let round = self.rounds - self.stage.first_round;
         let chosen = self.stage.counts.as_ref().map(|counts| {
-            let rounds = self.stage.rounds;
+            let (rounds, taken) = (self.stage.rounds, &self.taken);
             counts
                 .iter()
+                .zip(taken)
                 .enumerate()
-                .flat_map(|(p, &count)| {
-                    samples_in_round(count, round, rounds).map(move |k| (p as u64, k))
+                .flat_map(|(p, (&count, &taken))| {
+                    let new = samples_in_round(count, round, rounds).len() as u32;
+                    (taken..taken + new).map(move |index| (p as u64, index))
                 })
                 .collect::<Vec<_>>()
         });
@@ -282,7 +261,6 @@ impl<'a> Progressive<'a> {
                 first_round,
                 rounds: u32::MAX,
                 counts: None,
-                seed: options.seed,
             };
             return;
         }
@@ -297,31 +275,24 @@ impl<'a> Progressive<'a> {
                 Some(reduction) if options.denoised => Target::Denoised(reduction),
                 _ => Target::Raw,
             };
-            allocate(&self.film, &self.taken, target, rounds)
+            allocate(&self.film, target, rounds)
         } else {
             None
-        };
-        let seed = if counts.is_some() {
-            Stage::seed(options.seed, first_round)
-        } else {
-            options.seed
         };
         self.stage = Stage {
             first_round,
             rounds,
             counts,
-            seed,
         };
     }
 
-    /// Traces the samples `chosen` ((pixel, the sample's index in the pixel's sequence under
-    /// the stage's seed), in pixel order), or the next one of every pixel, and adds them to the
-    /// film, the guides and the radiance cache.
+    /// Traces the samples `chosen` ((pixel, the sample's index in the pixel's sequence), in
+    /// pixel order), or the next one of every pixel, and adds them to the film, the guides and
+    /// the radiance cache.
     fn take(&mut self, chosen: Option<&[(u64, u32)]>) {
         let options = &self.options;
         let (width, height) = (options.width, options.height);
         let taken = &self.taken;
-        let seed = self.stage.seed;
         let cache = self.cache.as_ref();
         let (integrator, camera) = (self.integrator, self.camera);
         let trace = |pixel: u64, index: u32| {
@@ -329,7 +300,7 @@ impl<'a> Progressive<'a> {
                 (pixel % u64::from(width)) as u32,
                 (pixel / u64::from(width)) as u32,
             );
-            let mut sampler = Sampler::stratified(seed, pixel, u64::from(index));
+            let mut sampler = Sampler::stratified(options.seed, pixel, u64::from(index));
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height, offset);
@@ -351,7 +322,6 @@ impl<'a> Progressive<'a> {
                 .collect_into_vec(&mut buffers.results),
         }
         let results = &buffers.results;
-        let stage = &self.stage;
         // In pixel order, so in row order as splatting wants.
         // Copied out in parallel (in order: `collect_into_vec` keeps it).
         results
@@ -361,7 +331,6 @@ impl<'a> Progressive<'a> {
                     x: (pixel % u64::from(width)) as u32,
                     y: (pixel / u64::from(width)) as u32,
                     radiance: value.radiance,
-                    weight: stage.weight(*pixel as usize),
                 };
                 (splat, value.first)
             })
