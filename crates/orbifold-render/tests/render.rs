@@ -406,6 +406,19 @@ fn light_sampling_round_the_sphere_agrees_with_brute_force() {
 }
 
 #[test]
+fn light_sampling_in_a_spherical_room_whose_walls_block_the_ways_round_agrees_with_brute_force() {
+    // Black walls, and one partial mirror on one wall: the room and its images fit in a
+    // hemisphere, so light sampling spends nothing on the ways round the sphere. Brute force
+    // still follows every way: if any carried light, the two would differ.
+    for mirrors in [0, 1] {
+        let mut scene = scene("*222", LightKind::Sphere);
+        scene.room.wall_material = Material::Color { color: [0.0; 3] };
+        scene.walls.truncate(mirrors);
+        assert_nee_agrees_with_brute_force(&scene, &format!("*222, {mirrors} mirrors"));
+    }
+}
+
+#[test]
 fn a_point_light_lights_a_spherical_mirror_room_as_a_tiny_sphere_light_does() {
     // Only light sampling finds a point light, so the geodesics that go round the sphere again
     // are its only way there; a sphere light's come partly from bounces weighed against them.

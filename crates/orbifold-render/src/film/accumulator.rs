@@ -52,6 +52,21 @@ impl Accumulator {
         self.luminance.mean_variance(self.weight, self.weight2)
     }
 
+    /// The weighted sample variance of the luminance of the samples summed here (how far one
+    /// of them strays); `None` for fewer than two (effective) samples.
+    pub(super) fn sample_variance(&self) -> Option<f64> {
+        self.luminance.variance(self.weight, self.weight2)
+    }
+
+    /// The weighted mean luminance of the samples summed here (0 without samples).
+    pub(super) fn mean_luminance(&self) -> f64 {
+        if self.weight > 0.0 {
+            luminance(self.sum.map(|s| s / self.weight))
+        } else {
+            0.0
+        }
+    }
+
     /// Adds another pixel's sums.
     pub(super) fn merge(&mut self, other: &Accumulator) {
         let (wa, wb) = (self.weight, other.weight);

@@ -518,6 +518,40 @@ impl Film {
             .collect()
     }
 
+    /// How far one sample of each pixel's own (not its neighbours', whatever the filter) moves
+    /// that pixel's own mean on screen, in 8-bit display levels at `exposure`: the step that one
+    /// standard deviation of its samples' luminance makes through the tone curve (the larger
+    /// of the steps up and down), row by row. Infinite for pixels with fewer than two samples.
+    /// What the adaptive sampler allocates by: it depends on that pixel's samples alone.
+    ///
+    /// ```
+    /// use orbifold_render::film::{Film, PixelFilter};
+    ///
+    /// let mut film = Film::new(2, 1);
+    /// for v in [0.1, 0.3, 0.1, 0.3] {
+    ///     film.splat(0, 0, [v; 3], PixelFilter::GAUSSIAN);
+    ///     film.splat(1, 0, [0.2; 3], PixelFilter::GAUSSIAN);
+    /// }
+    /// let levels = film.sample_display_noise(0.0);
+    /// // Pixel 1's own samples agree, whatever its neighbour's do.
+    /// assert!(levels[0] > 5.0 && levels[1] == 0.0);
+    /// ```
+    pub fn sample_display_noise(&self, exposure: f64) -> Vec<f64> {
+        self.own
+            .par_iter()
+            .map(|own| {
+                let Some(variance) = own.sample_variance() else {
+                    return f64::INFINITY;
+                };
+                let (l, sd) = (own.mean_luminance().max(0.0), variance.sqrt());
+                let at = tone_curve(l, exposure);
+                let up = tone_curve(l + sd, exposure) - at;
+                let down = at - tone_curve((l - sd).max(0.0), exposure);
+                255.0 * up.max(down)
+            })
+            .collect()
+    }
+
     /// A summary of the noise of the image: the mean over all pixels of
     ///
     /// SE(x, y) / (max(L(x, y), 0) + 0.01),

@@ -7,7 +7,9 @@
 //! each a (light, image, way) choice: on the sphere every geodesic comes back round, so a point is
 //! lit along the short and the long way to each image and along both again after each time
 //! round, as long as the mirrors on the way leave something of the light ([`MAX_WRAPS`],
-//! [`WRAP_CUTOFF`]); elsewhere the way is always the short one.
+//! [`WRAP_CUTOFF`]) and the walls do not block every way round (a room whose images across its
+//! mirror walls fit in a hemisphere: [`crate::lights::ImageSet::fit_in_a_hemisphere`]);
+//! elsewhere the way is always the short one.
 //!
 //! The choice mixes two distributions. One is fixed per scene: ∝ the light's power × the image's
 //! bound on the mirrors' reflectance / J at the image's distance from the room's centre, J being
@@ -194,11 +196,12 @@ impl Integrator {
         } else {
             0
         };
-        let turns = if space.kappa() > 0.0 {
-            2 * (wraps + 1)
-        } else {
-            1
-        };
+        // Where the room and its images across mirror walls fit in a hemisphere, the walls
+        // block every way round ([`crate::lights::ImageSet::fit_in_a_hemisphere`]): only the
+        // short ways are worth a light sample.
+        let round_the_sphere =
+            space.kappa() > 0.0 && !self.images.fit_in_a_hemisphere(&self.tracer.room);
+        let turns = if round_the_sphere { 2 * (wraps + 1) } else { 1 };
         let mut weights = Vec::new();
         for (l, light) in self.lights.iter().enumerate() {
             for (k, image) in self.images.images.iter().enumerate() {
@@ -411,6 +414,46 @@ mod tests {
     use super::*;
     use crate::integrator::Settings;
     use proptest::prelude::*;
+
+    /// The ways round the sphere among the light sampler's choices of a spherical room of
+    /// `signature` whose walls listed in `mirrors` carry a mirror.
+    fn ways_round(signature: &str, mirrors: &[usize]) -> usize {
+        let mut scene = orbifold_scene::Scene::default();
+        scene.orbifold.signature = signature.into();
+        scene.room.mirrors = orbifold_scene::MirrorDefault::None;
+        scene.walls = mirrors
+            .iter()
+            .map(|&index| orbifold_scene::Wall {
+                index,
+                material: None,
+                mirrors: vec![orbifold_scene::Mirror {
+                    from: 0.0,
+                    to: 1.0,
+                    bottom: 0.0,
+                    top: None,
+                    reflectance: [0.9; 3],
+                }],
+            })
+            .collect();
+        let integrator = Integrator::from_scene(&scene, None, Settings::default()).unwrap();
+        integrator.entries.iter().filter(|e| e.turns > 0).count()
+    }
+
+    #[test]
+    fn light_samples_go_round_the_sphere_only_where_the_walls_let_them() {
+        // No mirror, or mirrors that all meet at one corner: the room's images fit in a
+        // hemisphere (the octant and its images round a right-angled corner), so every way
+        // round is blocked. Three mirrors: the images cover the sphere.
+        assert_eq!(ways_round("*222", &[]), 0);
+        assert_eq!(ways_round("*222", &[0]), 0);
+        assert_eq!(ways_round("*222", &[0, 1]), 0);
+        assert_eq!(ways_round("*235", &[1, 2]), 0);
+        assert!(ways_round("*222", &[0, 1, 2]) > 0);
+        assert!(ways_round("*235", &[0, 1, 2]) > 0);
+        // The hemisphere of `*` with its one wall a mirror: the whole sphere.
+        assert_eq!(ways_round("*", &[]), 0);
+        assert!(ways_round("*", &[0]) > 0);
+    }
 
     proptest! {
         /// The per-point weights' cosine is the true one: on a face whose normal is level, at

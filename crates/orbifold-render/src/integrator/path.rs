@@ -26,7 +26,7 @@ use super::surface::{GeometricSides, bent_shading_normal};
 use super::{Integrator, RAY_EPSILON, add, mul, scale};
 use crate::lights::{Rgb, TangentFrame, travel_direction};
 use crate::materials::bsdf::Bsdf;
-use crate::radiance_cache::{self, Deposit, RadianceCache};
+use crate::radiance_cache::{self, Deposit, Reader};
 use crate::sampler::{Frame, Sampler, power_heuristic};
 
 /// Below this luminance of a path's throughput, mirror chains play Russian roulette.
@@ -71,7 +71,7 @@ pub struct PathSample {
     /// The first surface that is not a mirror.
     pub first: FirstHit,
     /// The path's estimate of the light its first diffuse surface reflects, for a
-    /// [`RadianceCache`] (only from [`Integrator::sample_pixel_cached`], when that surface was
+    /// [`RadianceCache`](crate::radiance_cache::RadianceCache) (only from [`Integrator::sample_pixel_cached`], when that surface was
     /// traced in full).
     pub deposit: Option<Deposit>,
     /// The rays the path traced: geodesic stretches between mirrors, each a search for the
@@ -117,7 +117,7 @@ impl Integrator {
         &self,
         ray: &Ray,
         footprint: Option<Footprint>,
-        cache: Option<&RadianceCache>,
+        cache: Option<Reader<'_>>,
         sampler: &mut Sampler,
     ) -> PathSample {
         let rays_before = rays_so_far();
@@ -255,7 +255,7 @@ impl Integrator {
                     }
                     _ => 0.0,
                 };
-                let (facing, cached) = self.cached(cache, x, h, &frame, geometric, width, sampler);
+                let (facing, cached) = self.cached(&cache, x, h, &frame, geometric, width, sampler);
                 let weight = mul(beta, albedo);
                 // Only the camera's first surface deposits estimates, so only there do probes
                 // feed the cache.

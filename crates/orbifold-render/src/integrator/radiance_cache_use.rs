@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::Integrator;
 use crate::lights::{Rgb, TangentFrame};
-use crate::radiance_cache::{self, Deposit, RadianceCache, facing};
+use crate::radiance_cache::{self, Deposit, Reader, facing};
 use crate::sampler::{Frame, Sampler};
 
 /// The camera path's first diffuse surface, while its estimate there is being traced.
@@ -52,11 +52,11 @@ impl Integrator {
 
     /// Which way a surface at (x, h) with normal `geometric` (local to `frame`) faces, and the
     /// cache's estimate of the light it reflects per unit albedo, spread over `width`
-    /// ([`RadianceCache::lookup`], jittered along the surface).
+    /// ([`Reader::lookup`], jittered along the surface).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn cached(
         &self,
-        cache: &RadianceCache,
+        cache: &Reader,
         x: DVec3,
         h: f64,
         frame: &TangentFrame,

@@ -145,6 +145,55 @@ impl ImageSet {
         set
     }
 
+    /// Whether, on the sphere, the tiles of these images — the room and its images across mirror
+    /// walls — all lie in one closed hemisphere. A geodesic that carries light from a light image
+    /// crosses only mirror walls, so it stays in these tiles; and no geodesic longer than π fits
+    /// in a closed hemisphere. So when they fit, the walls block every way round the sphere (the
+    /// long way to a light image is at least π long), and light sampling leaves those ways out.
+    /// Conservative: a tile is convex, so it lies in the hemisphere when its corners and the
+    /// middles of its walls do (the middles matter for a lune, whose corners are antipodal), and
+    /// the hemisphere tried is the one centred on their mean with the tiles' centres (which
+    /// matter for the hemisphere of `*`, whose one wall's start and middle are antipodal);
+    /// `false` off the sphere.
+    ///
+    /// ```
+    /// use orbifold::{Layout, LayoutOptions};
+    /// use orbifold_render::lights::ImageSet;
+    /// use orbifold_trace::room::AnalyticRoom;
+    /// let layout = Layout::new(&"*222".parse()?, &LayoutOptions::default())?;
+    /// let centre = |room: &AnalyticRoom| room.space.to_ambient(layout.centre);
+    /// // Walls without mirrors: the room alone, an eighth of the sphere.
+    /// let plain = AnalyticRoom::all_mirrors(&layout, 1.0, [0.0; 3])?;
+    /// assert!(ImageSet::new(&plain, centre(&plain)).fit_in_a_hemisphere(&plain));
+    /// // Every wall a mirror: the images cover the sphere.
+    /// let mirrors = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])?;
+    /// assert!(!ImageSet::new(&mirrors, centre(&mirrors)).fit_in_a_hemisphere(&mirrors));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn fit_in_a_hemisphere(&self, room: &AnalyticRoom) -> bool {
+        let space = room.space;
+        if space.kappa() <= 0.0 || room.walls.iter().any(|w| w.drawn_in.is_some()) {
+            return false;
+        }
+        let outline: Vec<DVec3> = room
+            .walls
+            .iter()
+            .flat_map(|w| [w.start, space.exp(w.start, w.tangent * (0.5 * w.length))])
+            .chain([self.centre])
+            .collect();
+        let points: Vec<DVec3> = self
+            .images
+            .iter()
+            .flat_map(|image| outline.iter().map(move |&p| image.isometry * p))
+            .collect();
+        let sum: DVec3 = points.iter().sum();
+        if !sum.is_finite() || sum.length() <= 1e-9 {
+            return false;
+        }
+        let pole = sum.normalize();
+        points.iter().all(|p| pole.dot(*p) >= -1e-9)
+    }
+
     /// The lookup cell of a key: its coordinates in steps of 1e-4, rounded half away from zero
     /// by casts (`f64::round` is a library call on baseline x86-64, and a lookup rounds nine
     /// times). Any monotone rounding would do: [`ImageSet::find`] relies on that alone.

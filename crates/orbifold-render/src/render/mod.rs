@@ -6,7 +6,8 @@
 //! - [`Progressive`]: the render loop, progressive rounds of one sample per pixel, in
 //!   parallel, into an HDR [`Film`](crate::film::Film); [`render`] runs it to the end, a time
 //!   limit, a noise target or cancellation.
-//! - the adaptive sampler (`adaptive.rs`): which pixels a round samples.
+//! - the adaptive sampler (`adaptive.rs`): how many samples each pixel gets, stage by stage,
+//!   and how each stage's samples are weighted so that the image stays unbiased.
 //! - [`Picture`]: **the one render pipeline** that `orbifold render`, `orbifold animate` and
 //!   the studio call: progressive rounds, then the guided denoiser when the picture is to be
 //!   denoised, tone mapping for display, and the HDR image kept for EXR
@@ -21,10 +22,8 @@ mod options;
 mod pipeline;
 mod progressive;
 
-pub use options::{
-    FULL_ROUND_EVERY, FULL_ROUND_EVERY_DENOISED, MOST_SAMPLES_PER_ROUND, RenderOptions,
-    WARMUP_ROUNDS,
-};
+pub use adaptive::LONGEST_STAGE;
+pub use options::{MOST_SAMPLES_PER_ROUND, RenderOptions, WARMUP_ROUNDS};
 pub use pipeline::{Picture, render_picture};
 pub use progressive::{Progressive, Rendered, render, render_scene};
 

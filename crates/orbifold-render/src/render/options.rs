@@ -21,8 +21,8 @@ pub struct RenderOptions {
     /// Stop once the film's relative noise ([`Film::relative_noise`](crate::film::Film::relative_noise)) is at most this (checked
     /// after every round from the second on).
     pub noise_target: Option<f64>,
-    /// Spend the samples where the image is noisiest (see the module documentation); without
-    /// it, every pixel gets exactly `samples` samples.
+    /// Spend the samples where the image is noisiest, without bias (the adaptive sampler of
+    /// [`crate::render`]); without it, every pixel gets exactly `samples` samples.
     pub adaptive: bool,
     /// The image will be denoised ([`crate::denoise`]): adaptive sampling aims at the noise the
     /// denoiser leaves rather than at the raw image's (see the module documentation).
@@ -32,14 +32,9 @@ pub struct RenderOptions {
     pub filter: PixelFilter,
 }
 
-/// Rounds over the whole image before adaptive sampling starts.
+/// Rounds over the whole image before adaptive sampling starts (its first stage).
 pub const WARMUP_ROUNDS: u32 = 4;
-/// With adaptive sampling, every this many rounds one is over the whole image.
-pub const FULL_ROUND_EVERY: u32 = 8;
-/// With adaptive sampling for a denoised image, every this many rounds one is over the whole
-/// image: the surfaces that the filter smooths still need samples enough for its estimates.
-pub const FULL_ROUND_EVERY_DENOISED: u32 = 4;
-/// With adaptive sampling for a denoised image, the most samples a pixel gets in one round.
+/// With adaptive sampling, the most samples a pixel gets in a stage, in multiples of the mean.
 pub const MOST_SAMPLES_PER_ROUND: u32 = 16;
 
 impl RenderOptions {

@@ -1,6 +1,7 @@
-//! The render loop: progressive rounds of one sample per pixel (or, with adaptive sampling, of
-//! the pixels that need them), in parallel, into an HDR [`Film`]; stops after the wanted
-//! samples, at a time limit, at a noise target, or when asked to.
+//! The render loop: progressive rounds of one sample per pixel (or, with adaptive sampling, as
+//! many for each pixel as its stage's allocation gives it in that round: `adaptive.rs`), in
+//! parallel, into an HDR [`Film`]; stops after the wanted samples, at a time limit, at a noise
+//! target, or when asked to.
 //!
 //! With a radiance cache ([`crate::radiance_cache`]), the first round is taken in two halves, a
 //! checkerboard: with no cache to read, its paths are traced in full, about twice a later
@@ -14,8 +15,8 @@ use orbifold_scene::Scene;
 use orbifold_trace::camera::Camera;
 use rayon::prelude::*;
 
-use super::adaptive::{Target, noisiest};
-use super::options::{FULL_ROUND_EVERY, FULL_ROUND_EVERY_DENOISED, RenderOptions, WARMUP_ROUNDS};
+use super::adaptive::{Target, allocate, samples_in_round, stage_length};
+use super::options::{RenderOptions, WARMUP_ROUNDS};
 use crate::denoise::{DenoiseOptions, Guides, denoise_with_reduction};
 use crate::film::{Film, Splat};
 use crate::integrator::{FirstHit, Integrator, PathSample, Settings};
@@ -141,8 +142,10 @@ pub struct Progressive<'a> {
     rays: u64,
     rounds: u32,
     /// The denoiser's variance reduction per pixel, when adaptive sampling aims at a denoised
-    /// image (refreshed at rounds 4, 8, 16, …).
+    /// image (refreshed at the start of every stage).
     reduction: Option<Vec<f64>>,
+    /// The stage of adaptive sampling this round belongs to.
+    stage: Stage,
     /// The radiance cache for far mirror images, filled from the rounds so far
     /// ([`crate::radiance_cache`]).
     cache: Option<RadianceCache>,
@@ -150,6 +153,14 @@ pub struct Progressive<'a> {
     /// from round to round: a large round holds hundreds of megabytes, and fresh memory each
     /// round costs more in page faults than the bookkeeping itself.
     buffers: RoundBuffers,
+}
+
+/// A stage of adaptive sampling (`adaptive.rs`): `rounds` rounds from `first_round`, in which
+/// pixel j takes `counts[j]` samples; without `counts`, one a round each.
+struct Stage {
+    first_round: u32,
+    rounds: u32,
+    counts: Option<Vec<u32>>,
 }
 
 /// Memory reused by every round ([`Progressive::round`]).
@@ -180,6 +191,11 @@ impl<'a> Progressive<'a> {
             rays: 0,
             rounds: 0,
             reduction: None,
+            stage: Stage {
+                first_round: 0,
+                rounds: 0,
+                counts: None,
+            },
             cache: integrator.uses_radiance_cache().then(RadianceCache::new),
             buffers: RoundBuffers::default(),
         }
@@ -190,38 +206,30 @@ impl<'a> Progressive<'a> {
         u64::from(self.options.samples) * self.taken.len() as u64
     }
 
-    /// One more round: one sample for every pixel, or with adaptive sampling after the first
-    /// rounds, for the noisiest ones (see the module documentation).
+    /// One more round: one sample for every pixel, or with adaptive sampling after the warm-up,
+    /// each pixel's share of its stage's samples (`adaptive.rs`).
     pub fn round(&mut self) {
-        let options = &self.options;
-        let (width, height) = (options.width, options.height);
+        let (width, height) = (self.options.width, self.options.height);
         let pixels = u64::from(width) * u64::from(height);
         if pixels == 0 {
             return;
         }
-        let full_every = if options.denoised {
-            FULL_ROUND_EVERY_DENOISED
-        } else {
-            FULL_ROUND_EVERY
-        };
-        let adaptive_round = options.adaptive
-            && self.rounds >= WARMUP_ROUNDS
-            && !self.rounds.is_multiple_of(full_every);
-        let refresh = options.adaptive && options.denoised && self.rounds >= WARMUP_ROUNDS;
-        if refresh && self.rounds.is_power_of_two() {
-            let (_, reduction) =
-                denoise_with_reduction(&self.film, &self.guides, &DenoiseOptions::default());
-            self.reduction = Some(reduction);
+        if self.rounds - self.stage.first_round >= self.stage.rounds {
+            self.start_stage();
         }
-        let chosen = adaptive_round
-            .then(|| {
-                let target = match &self.reduction {
-                    Some(reduction) if options.denoised => Target::Denoised(reduction),
-                    _ => Target::Raw,
-                };
-                noisiest(&self.film, &self.taken, target)
-            })
-            .flatten();
+        let round = self.rounds - self.stage.first_round;
+        let chosen = self.stage.counts.as_ref().map(|counts| {
+            let (rounds, taken) = (self.stage.rounds, &self.taken);
+            counts
+                .iter()
+                .zip(taken)
+                .enumerate()
+                .flat_map(|(p, (&count, &taken))| {
+                    let new = samples_in_round(count, round, rounds).len() as u32;
+                    (taken..taken + new).map(move |index| (p as u64, index))
+                })
+                .collect::<Vec<_>>()
+        });
         match chosen {
             Some(list) => self.take(Some(&list)),
             None if self.rounds == 0 && self.cache.is_some() => {
@@ -234,6 +242,7 @@ impl<'a> Progressive<'a> {
                         .map(|p| (p, 0))
                         .collect()
                 };
+                // (Sample 0 of each pixel: the first round.)
                 self.take(Some(&half(0)));
                 self.take(Some(&half(1)));
             }
@@ -242,8 +251,44 @@ impl<'a> Progressive<'a> {
         self.rounds += 1;
     }
 
-    /// Traces the samples `chosen` ((pixel, which of its new samples), in pixel order), or one
-    /// for every pixel, and adds them to the film, the guides and the radiance cache.
+    /// Starts the next stage: its length, and with adaptive sampling after the warm-up, each
+    /// pixel's samples in it, from the image so far (`adaptive.rs`).
+    fn start_stage(&mut self) {
+        let options = &self.options;
+        let first_round = self.rounds;
+        if !options.adaptive {
+            self.stage = Stage {
+                first_round,
+                rounds: u32::MAX,
+                counts: None,
+            };
+            return;
+        }
+        let rounds = stage_length(first_round, options.samples);
+        let counts = if first_round >= WARMUP_ROUNDS {
+            if options.denoised {
+                let (_, reduction) =
+                    denoise_with_reduction(&self.film, &self.guides, &DenoiseOptions::default());
+                self.reduction = Some(reduction);
+            }
+            let target = match &self.reduction {
+                Some(reduction) if options.denoised => Target::Denoised(reduction),
+                _ => Target::Raw,
+            };
+            allocate(&self.film, target, rounds)
+        } else {
+            None
+        };
+        self.stage = Stage {
+            first_round,
+            rounds,
+            counts,
+        };
+    }
+
+    /// Traces the samples `chosen` ((pixel, the sample's index in the pixel's sequence), in
+    /// pixel order), or the next one of every pixel, and adds them to the film, the guides and
+    /// the radiance cache.
     fn take(&mut self, chosen: Option<&[(u64, u32)]>) {
         let options = &self.options;
         let (width, height) = (options.width, options.height);
@@ -259,15 +304,17 @@ impl<'a> Progressive<'a> {
             let offset = sampler.next_2d();
             let ray = camera.ray(i, j, width, height, offset);
             let footprint = camera.footprint(i, j, width, height, offset);
-            let sample = integrator.sample_pixel_cached(&ray, Some(footprint), cache, &mut sampler);
+            // The pixel reads the cache's cells that hold as many estimates as it has samples.
+            let reader = cache.map(|c| c.reader(taken[pixel as usize]));
+            let sample =
+                integrator.sample_pixel_cached(&ray, Some(footprint), reader, &mut sampler);
             (pixel, sample)
         };
-        // (pixel, which of its new samples) for an adaptive round; every pixel once otherwise.
         let buffers = &mut self.buffers;
         match chosen {
             Some(list) => list
                 .par_iter()
-                .map(|&(p, k)| trace(p, taken[p as usize] + k))
+                .map(|&(p, index)| trace(p, index))
                 .collect_into_vec(&mut buffers.results),
             None => (0..taken.len())
                 .into_par_iter()
