@@ -26,6 +26,7 @@
 //! assert!(kinds.iter().all(|&k| k == CycleKind::Cone));
 //! ```
 
+pub mod cover;
 pub(crate) mod cycles;
 pub(crate) mod geometry;
 pub mod star;
