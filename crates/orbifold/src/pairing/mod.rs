@@ -295,8 +295,16 @@ impl FundamentalPolygon {
         finish(symbol, space, draft, motion.matrix())
     }
 
-    /// Wraps a kaleidoscopic layout: every edge a mirror, every corner its own cycle.
-    fn from_layout(symbol: OrbifoldSymbol, layout: Layout) -> FundamentalPolygon {
+    /// Wraps a kaleidoscopic layout (any, non-orbifold rooms too): every edge a mirror, every
+    /// corner its own cycle.
+    ///
+    /// ```
+    /// use orbifold::{Layout, pairing::FundamentalPolygon};
+    /// let layout = Layout::new(&"*2333".parse().unwrap(), &Default::default()).unwrap();
+    /// let p = FundamentalPolygon::from_layout(layout.signature.clone().into(), layout);
+    /// assert_eq!(p.cycles.len(), 4);
+    /// ```
+    pub fn from_layout(symbol: OrbifoldSymbol, layout: Layout) -> FundamentalPolygon {
         let space = layout.space();
         let vertices: Vec<Vertex> = layout
             .vertices
