@@ -7,8 +7,8 @@
 //! O to the polygon's boundary, and in ambient coordinates at least σ = 2·S_κ(δ) apart (the chord:
 //! the Euclidean distance of ambient points is at least the Minkowski one on the hyperboloid).
 //! Images are deduplicated in a grid of cells of size σ/2 — but only when a rigorous bound ε on
-//! the error of each computed image is below σ/8, so that the same tile's images lie within σ/4
-//! and different tiles' beyond 3σ/4. Otherwise the enumeration stops with
+//! the error of each computed image is below σ/16, so that the same tile's images lie within
+//! σ/8 and different tiles' beyond 7σ/8, more than a cell's diagonal. Otherwise the enumeration stops with
 //! [`CoverError::Precision`] instead of guessing.
 //!
 //! The bound follows each tile's matrix: ‖P̃Ñ − PN‖∞ ≤ ‖P̃ − P‖·‖N‖ + ‖P‖·‖Ñ − N‖ + γ₃‖P‖‖N‖
@@ -21,11 +21,10 @@
 //! independent exact polygon.
 //!
 //! Only the last two layers are kept for deduplication: a word of length d + 1 can only equal
-//! one of length d − 1, d or d + 1.
-
-use std::collections::HashMap;
+//! one of length d − 1, d or d + 1 (the generators are closed under inverses).
 
 use glam::{DMat3, DVec3};
+use rustc_hash::FxHashMap;
 
 use super::{EdgeKind, FundamentalPolygon};
 use crate::conway::OrbifoldSymbol;
@@ -241,9 +240,13 @@ impl<'a> Search<'a> {
             ));
         }
         let bytes_per_tile = (std::mem::size_of::<Node>() + 48) as u128;
-        let mut older: Grid = Grid::new(cell);
-        let mut previous = Grid::new(cell);
-        previous.insert(base.point, 0.0);
+        // One grid holds the last two layers and the one being built; the layer before those
+        // is evicted before each expansion (a word of length d + 1 equals none shorter than d − 1).
+        let mut grid = Grid::new(cell);
+        grid.insert(base.point, 0.0);
+        // The layers before the current one: d − 2 (evicted next) and d − 1.
+        let mut older: Vec<DVec3> = Vec::new();
+        let mut previous: Vec<DVec3> = Vec::new();
         let mut layer = vec![(base, u32::MAX)];
         let mut depth = 0usize;
         let mut total = 0u128;
@@ -267,9 +270,12 @@ impl<'a> Search<'a> {
             if layer.is_empty() || matches!(self.bound, Bound::Depth(d) if depth >= d) {
                 break;
             }
-            let (next, grid) = self.expand(&layer, &older, &previous, depth + 1, cell)?;
-            older = previous;
-            previous = grid;
+            for p in older.drain(..) {
+                grid.remove(p);
+            }
+            let next = self.expand(&layer, &mut grid, depth + 1)?;
+            older = std::mem::take(&mut previous);
+            previous = layer.iter().map(|(node, _)| node.point).collect();
             layer = next;
             depth += 1;
         }
@@ -303,19 +309,17 @@ impl<'a> Search<'a> {
     }
 
     /// The next layer: every neighbour of the layer's tiles that is in none of the last two
-    /// layers nor already in the new one.
-    #[allow(clippy::type_complexity)]
+    /// layers (in `grid`) nor already in the new one, which it adds to `grid`.
     fn expand(
         &self,
         layer: &[(Node, u32)],
-        older: &Grid,
-        previous: &Grid,
+        grid: &mut Grid,
         depth: usize,
-        cell: f64,
-    ) -> Result<(Vec<(Node, u32)>, Grid), CoverError> {
-        let mut next: Vec<(Node, u32)> = Vec::new();
-        let mut grid = Grid::new(cell);
-        let limit = self.separation / 8.0;
+    ) -> Result<Vec<(Node, u32)>, CoverError> {
+        let mut next: Vec<(Node, u32)> = Vec::with_capacity(layer.len() * 2);
+        // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
+        // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
+        let limit = self.separation / 16.0;
         for (parent, _) in layer {
             if self.distance(parent.point) > self.reach {
                 continue;
@@ -335,10 +339,7 @@ impl<'a> Search<'a> {
                     return Err(CoverError::Precision { depth });
                 }
                 // Two images of one tile lie within the sum of their error bounds.
-                if older.contains(point, point_error, self.separation)
-                    || previous.contains(point, point_error, self.separation)
-                    || grid.contains(point, point_error, self.separation)
-                {
+                if grid.contains(point, point_error, self.separation) {
                     continue;
                 }
                 grid.insert(point, point_error);
@@ -353,7 +354,7 @@ impl<'a> Search<'a> {
             }
         }
         let _ = self.polygon;
-        Ok((next, grid))
+        Ok(next)
     }
 }
 
@@ -380,10 +381,12 @@ fn defect(polygon: &FundamentalPolygon, generators: &[DMat3]) -> f64 {
     16.0 * worst.max(64.0 * U)
 }
 
-/// Images of the centre in cells of a grid in ambient ℝ³.
+/// Images of the centre in cells of a grid in ambient ℝ³. Cells are σ/2 wide, so their
+/// diagonal (√3·σ/2) is shorter than the separation σ of distinct images: a cell holds at most
+/// one image.
 struct Grid {
     cell: f64,
-    cells: HashMap<(i64, i64, i64), Vec<DVec3>>,
+    cells: FxHashMap<(i64, i64, i64), DVec3>,
     /// The largest error bound of a stored image.
     error: f64,
 }
@@ -392,7 +395,7 @@ impl Grid {
     fn new(cell: f64) -> Self {
         Grid {
             cell,
-            cells: HashMap::new(),
+            cells: FxHashMap::default(),
             error: 0.0,
         }
     }
@@ -404,7 +407,14 @@ impl Grid {
 
     fn insert(&mut self, p: DVec3, error: f64) {
         self.error = self.error.max(error);
-        self.cells.entry(self.key(p)).or_default().push(p);
+        self.cells.insert(self.key(p), p);
+    }
+
+    fn remove(&mut self, p: DVec3) {
+        let key = self.key(p);
+        if self.cells.get(&key) == Some(&p) {
+            self.cells.remove(&key);
+        }
     }
 
     /// Whether an image within half the separation of `p` (whose error is at most `error`) is
@@ -412,19 +422,25 @@ impl Grid {
     /// bounds of its own cell's faces.
     fn contains(&self, p: DVec3, error: f64, separation: f64) -> bool {
         let (x, y, z) = self.key(p);
+        let half = separation / 2.0;
+        let near = |q: Option<&DVec3>| q.is_some_and(|q| (*q - p).length() < half);
+        if near(self.cells.get(&(x, y, z))) {
+            return true;
+        }
         let local = p / self.cell - DVec3::new(x as f64, y as f64, z as f64);
         let s = 2.0 * (error + self.error) / self.cell;
+        if local.min_element() >= s && local.max_element() <= 1.0 - s {
+            return false;
+        }
         let range = |f: f64| {
             let lo = if f < s { -1 } else { 0 };
             let hi = if f > 1.0 - s { 1 } else { 0 };
             lo..=hi
         };
-        let half = separation / 2.0;
         for dx in range(local.x) {
             for dy in range(local.y) {
                 for dz in range(local.z) {
-                    if let Some(points) = self.cells.get(&(x + dx, y + dy, z + dz))
-                        && points.iter().any(|q| (*q - p).length() < half)
+                    if (dx, dy, dz) != (0, 0, 0) && near(self.cells.get(&(x + dx, y + dy, z + dz)))
                     {
                         return true;
                     }
