@@ -11,14 +11,15 @@
 //! σ/8 and different tiles' beyond 7σ/8, more than a cell's diagonal. Otherwise the enumeration stops with
 //! [`CoverError::Precision`] instead of guessing.
 //!
-//! The bound follows each tile's matrix: ‖P̃Ñ − PN‖∞ ≤ ‖P̃ − P‖·‖N‖ + ‖P‖·‖Ñ − N‖ + γ₃‖P‖‖N‖
-//! (the last term the rounding of the product: Higham, *Accuracy and Stability of Numerical
-//! Algorithms*, §3.5), and an image of O is off by at most that times ‖O‖ plus its own
-//! rounding. ‖Ñ − N‖ ≤ e_gen·‖N‖ with e_gen the generators' measured defect: how far each pairing
-//! and its partner's are from inverse, and how far the vertex cycles' angle sums are from
-//! Poincaré's values (which is how far the group's relations are from holding), times 16. The
-//! bound is therefore certified relative to that measured defect of the polygon, not to an
-//! independent exact polygon.
+//! The bound follows each tile's matrix in the spectral norm: ‖P̃Ñ − PN‖ ≤ ‖P̃ − P‖·‖N‖ +
+//! ‖P‖·‖Ñ − N‖ + 3γ₃‖P‖‖N‖ (the last term the rounding of the product: Higham, *Accuracy and
+//! Stability of Numerical Algorithms*, §3.5), and an image of O is off by at most that times ‖O‖
+//! plus its own rounding; in E² the translation column is followed apart from the linear part
+//! ([`Search::propagate`]). ‖Ñ − N‖ ≤ e_gen·‖N‖ with e_gen the generators' measured defect: how
+//! far each pairing and its partner's are from inverse, and how far the vertex cycles' angle
+//! sums are from Poincaré's values (which is how far the group's relations are from holding),
+//! times 16. The bound is therefore certified relative to that measured defect of the polygon,
+//! not to an independent exact polygon.
 //!
 //! Only the last two layers are kept for deduplication: a word of length d + 1 can only equal
 //! one of length d − 1, d or d + 1 (the generators are closed under inverses).
@@ -143,24 +144,48 @@ fn norm(m: &DMat3) -> f64 {
     r(0).max(r(1)).max(r(2))
 }
 
+/// A bound on the spectral norm ‖M‖₂ of a (computed) isometry: on the sphere √‖MᵀM‖∞ (≈ 1);
+/// on the hyperboloid C + √(C² − 1) = e^d with C = |M₃₃| = cosh d, d the distance M moves the
+/// origin (a Lorentz matrix is a rotation, a boost by d and a rotation); in E² the norm of the
+/// linear 2×2 part, from its Gram matrix's larger eigenvalue. A relative 10⁻¹² covers the
+/// computed matrix's distance from an exact isometry.
+fn spectral(space: Space, m: &DMat3) -> f64 {
+    let k = space.kappa();
+    let value = if k > 0.0 {
+        norm(&(m.transpose() * *m)).sqrt()
+    } else if k < 0.0 {
+        let c = m.z_axis.z.abs().max(1.0);
+        c + (c * c - 1.0).sqrt()
+    } else {
+        let (x, y) = (m.x_axis.truncate(), m.y_axis.truncate());
+        let (a, b, c) = (x.length_squared(), x.dot(y), y.length_squared());
+        ((a + c) / 2.0 + (((a - c) / 2.0).powi(2) + b * b).sqrt()).sqrt()
+    };
+    value * (1.0 + 1e-12)
+}
+
 /// A tile in the search: its matrix, the image of the centre, and a bound on ‖M̃ − M‖∞, the
 /// distance of its computed matrix from the exact group element.
 #[derive(Clone, Copy)]
 struct Node {
     matrix: DMat3,
     point: DVec3,
+    /// The error bound (see [`Bounds`]); in E² of the linear part alone.
     error: f64,
+    /// In E²: the error bound of the translation column; 0 otherwise.
+    shift: f64,
 }
 
 struct Search<'a> {
     space: Space,
     generators: Vec<DMat3>,
-    /// For each generator: ‖N‖∞, and the edge of the child that faces the parent.
+    /// For each generator: ‖N‖₂ (of its linear part in E²), and the edge of the child that
+    /// faces the parent.
     generator_norms: Vec<f64>,
     facing: Vec<u32>,
     centre: DVec3,
-    /// ‖O‖∞.
-    centre_norm: f64,
+    /// ‖O‖₂.
+    centre_length: f64,
     /// The minimum ambient distance between images of the centre, σ.
     separation: f64,
     /// The generators' error e_gen.
@@ -206,12 +231,12 @@ impl<'a> Search<'a> {
         };
         Search {
             space,
-            generator_norms: generators.iter().map(norm).collect(),
+            generator_norms: generators.iter().map(|n| spectral(space, n)).collect(),
             defect: defect(polygon, &generators),
             generators,
             facing,
             centre,
-            centre_norm: centre.abs().max_element(),
+            centre_length: centre.length(),
             separation: 2.0 * space.sin(delta),
             bound,
             reach,
@@ -232,6 +257,7 @@ impl<'a> Search<'a> {
             matrix: DMat3::IDENTITY,
             point: self.centre,
             error: 0.0,
+            shift: 0.0,
         };
         let cell = self.separation / 2.0;
         if !(cell > 0.0 && cell.is_finite()) {
@@ -285,6 +311,44 @@ impl<'a> Search<'a> {
         Ok(())
     }
 
+    /// The error bounds of the child P·N (generator `i`) of `parent`, and of its image of O.
+    ///
+    /// In the spectral norm: ‖P̃Ñ − PN‖ ≤ ‖P̃ − P‖‖N‖ + ‖P‖‖Ñ − N‖ + 3γ₃‖P‖‖N‖ (first order in
+    /// the errors; the last term bounds the rounding of the product, Higham, *Accuracy and
+    /// Stability of Numerical Algorithms*, §3.5), with ‖Ñ − N‖ ≤ e_gen‖N‖. On the sphere every
+    /// norm is 1, so the bound grows linearly with the depth; in H² it grows with the product of
+    /// the generators' norms. In E² the translation column is followed apart from the linear
+    /// part, whose norm is 1: both bounds then grow linearly.
+    fn propagate(&self, parent: &Node, p_norm: f64, i: usize, child: &DMat3) -> (f64, f64, f64) {
+        let n_norm = self.generator_norms[i];
+        let safety = 1.0 + 1e-10;
+        if self.space.kappa() != 0.0 {
+            let error = (parent.error * n_norm
+                + p_norm * self.defect * n_norm
+                + 3.0 * GAMMA3 * p_norm * n_norm)
+                * safety;
+            let point_error =
+                (error + 3.0 * GAMMA3 * spectral(self.space, child)) * self.centre_length;
+            return (error, 0.0, point_error);
+        }
+        // E²: M = [A t; 0 1]. (PN)'s linear part is A_P A_N, its translation A_P t_N + t_P.
+        let shift_n = self.generators[i].z_axis.truncate().length();
+        let shift_p = parent.matrix.z_axis.truncate().length();
+        let error = (parent.error * n_norm
+            + p_norm * self.defect * n_norm
+            + 2.0 * GAMMA3 * p_norm * n_norm)
+            * safety;
+        let shift = (parent.error * shift_n
+            + parent.shift
+            + p_norm * self.defect * (1.0 + shift_n)
+            + 3.0 * GAMMA3 * (p_norm * shift_n + shift_p))
+            * safety;
+        let o = self.centre.truncate().length();
+        let point_error =
+            error * o + shift + 3.0 * GAMMA3 * (p_norm * o + child.z_axis.truncate().length());
+        (error, shift, point_error)
+    }
+
     fn record(&mut self, layer: &[(Node, u32)], depth: usize) {
         let mut count = 0;
         for (node, edge) in layer {
@@ -324,17 +388,11 @@ impl<'a> Search<'a> {
             if self.distance(parent.point) > self.reach {
                 continue;
             }
-            let p_norm = norm(&parent.matrix);
+            let p_norm = spectral(self.space, &parent.matrix);
             for (i, n) in self.generators.iter().enumerate() {
                 let matrix = parent.matrix * *n;
                 let point = matrix * self.centre;
-                // ‖P̃Ñ − PN‖ ≤ ‖P̃ − P‖‖N‖ + ‖P‖‖Ñ − N‖ + γ₃‖P‖‖N‖ (first order in the errors).
-                let n_norm = self.generator_norms[i];
-                let error = (parent.error * n_norm
-                    + p_norm * self.defect * n_norm
-                    + GAMMA3 * p_norm * n_norm)
-                    * (1.0 + 1e-10);
-                let point_error = (error + GAMMA3 * norm(&matrix)) * self.centre_norm * 3f64.sqrt();
+                let (error, shift, point_error) = self.propagate(parent, p_norm, i, &matrix);
                 if !(point_error < limit) || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
@@ -348,6 +406,7 @@ impl<'a> Search<'a> {
                         matrix,
                         point,
                         error,
+                        shift,
                     },
                     self.facing[i],
                 ));
