@@ -393,7 +393,7 @@ impl<'a> Search<'a> {
                 let matrix = parent.matrix * *n;
                 let point = matrix * self.centre;
                 let (error, shift, point_error) = self.propagate(parent, p_norm, i, &matrix);
-                if !(point_error < limit) || !point.is_finite() {
+                if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
                 // Two images of one tile lie within the sum of their error bounds.

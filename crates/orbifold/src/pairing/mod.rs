@@ -568,7 +568,10 @@ fn check_convex(
             angles[i]
         ));
     }
-    if let Some(i) = walls.iter().position(|w| !(w.dot(DVec3::Z) > 0.0)) {
+    if let Some(i) = walls
+        .iter()
+        .position(|w| w.dot(DVec3::Z).is_nan() || w.dot(DVec3::Z) <= 0.0)
+    {
         return bad(format!("the centre is not inside edge {i}"));
     }
     let bearing = |p: DVec3| p.y.atan2(p.x);

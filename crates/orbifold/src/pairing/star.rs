@@ -503,7 +503,7 @@ fn mirror_foot(
     while distance(hi) < 0.0 && hi < 60.0 {
         hi *= 2.0;
     }
-    if !(distance(hi) > 0.0) {
+    if distance(hi).is_nan() || distance(hi) <= 0.0 {
         return Err(LayoutError::Unrealisable(
             "the mirror of a boundary without corners cannot be that far out".into(),
         ));
