@@ -16,6 +16,7 @@
 //! | `k*m`, `k*` (k ≥ 3) | the isosceles triangle with apex 2π/k, its legs paired by the rotation, its base a mirror |
 //! | `2*mn`, `2*m`, `2*` | the triangle π/m, β, γ (β + γ = π/n) of mirrors, its third side folded by a half-turn |
 //! | `NN`, `N×`, `×` | a lune, its sides paired by a rotation (NN) or a rotatory reflection (N×) |
+//! | `o` | a parallelogram, opposite sides paired by the lattice's translations |
 //! | everything else | the *star* ([`star`]): sectors around a centre, one per feature |
 //!
 //! ```
@@ -160,6 +161,8 @@ pub enum Construction {
     FoldedTriangle,
     /// `NN`, `N×`, `×`: a lune with its sides paired.
     Lune,
+    /// `o` (p1): a parallelogram, opposite sides paired by translations.
+    Parallelogram,
     /// The general star around a centre ([`star`]).
     Star,
 }
@@ -173,6 +176,7 @@ impl Construction {
             Construction::ConeAndMirror => "cone and mirror",
             Construction::FoldedTriangle => "folded triangle",
             Construction::Lune => "lune",
+            Construction::Parallelogram => "parallelogram",
             Construction::Star => "star",
         }
     }

@@ -34,6 +34,10 @@ pub(crate) fn draft(
     let (handles, crosscaps) = (symbol.handles(), symbol.crosscaps());
     let cones = symbol.cones();
     let boundaries = symbol.boundaries();
+    if handles == 1 && cones.is_empty() && boundaries.is_empty() && crosscaps == 0 {
+        // `o`, the torus: Euclidean, so a parallelogram of any shape.
+        return parallelogram(space, parameters).map(Some);
+    }
     if handles > 0 {
         return Ok(None);
     }
@@ -142,6 +146,40 @@ fn lune(order: Order, crosscap: bool, parameters: Option<&[f64]>) -> Result<Draf
         parameters: vec![],
         meanings: vec![],
         construction: Construction::Lune,
+    })
+}
+
+/// `o` (p1): the parallelogram 0, a, a + b, b with |a| = 1 (model units) and b = ρ·e^{iθ}; the
+/// opposite sides are paired by the translations a and b. Both lattice parameters, ρ = |b|/|a|
+/// and θ, are free; every value is valid.
+fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
+    let values = take_parameters(
+        parameters,
+        &[1.0, 90.0],
+        &[(0.0, f64::INFINITY), (0.0, 180.0)],
+    )?;
+    let (ratio, theta) = (values[0], values[1].to_radians());
+    let corners = [
+        num_complex::Complex64::new(0.0, 0.0),
+        num_complex::Complex64::new(1.0, 0.0),
+        num_complex::Complex64::new(1.0 + ratio * theta.cos(), ratio * theta.sin()),
+        num_complex::Complex64::from_polar(ratio, theta),
+    ];
+    let points: Vec<DVec3> = corners.iter().map(|&z| space.to_ambient(z)).collect();
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: vec![false; 4],
+        orders: vec![Order::integer(1); 4],
+        walls: None,
+        neighbours: None,
+        glue: vec![paired(2), paired(3), paired(0), paired(1)],
+        parameters: values,
+        meanings: vec![
+            "the length of the second pair of sides divided by the first's (|b|/|a|); in (0, ∞), default 1".into(),
+            "the angle between the two pairs of sides, in degrees; in (0, 180), default 90 (a rectangle)".into(),
+        ],
+        construction: Construction::Parallelogram,
     })
 }
 
