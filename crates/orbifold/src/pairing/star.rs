@@ -38,6 +38,10 @@ use crate::layout::{LayoutError, incircle};
 use crate::order::Order;
 use crate::space::Space;
 
+/// The largest cut of a boundary without corners: longer cut edges put the mirror so far out
+/// (cosh of the distance beyond 10⁴ in H²) that its corners' right angles lose digits.
+pub const CUT_MAX: f64 = 2.0;
+
 /// The valid range of a sector-width parameter: any two widths differ by less than a factor 2,
 /// so that every sector is narrower than π when there are three sectors or more.
 pub const WIDTH_RANGE: (f64, f64) = (FRAC_1_SQRT_2, SQRT_2);
@@ -154,7 +158,7 @@ pub(crate) fn draft(
         .iter()
         .map(|c| {
             if c.is_empty() {
-                (0.0, f64::INFINITY)
+                (0.0, CUT_MAX)
             } else {
                 (0.0, 1.0)
             }
@@ -253,7 +257,7 @@ fn meanings(symbol: &OrbifoldSymbol, plan: &Plan, supported: usize) -> Vec<Strin
             if corners.is_empty() {
                 format!(
                     "mirror boundary {}: the length of the cut edge d from the circle of v to the \
-                     mirror, in units of the distance from v to the sector's axis; in (0, ∞), default 1",
+                     mirror, in units of the distance from v to the sector's axis; in (0, 2), default 1",
                     i + 1
                 )
             } else {
