@@ -179,6 +179,8 @@ struct Node {
 struct Search<'a> {
     space: Space,
     generators: Vec<DMat3>,
+    /// N·O for each generator N.
+    images: Vec<DVec3>,
     /// For each generator: ‖N‖₂ (of its linear part in E²), and the edge of the child that
     /// faces the parent.
     generator_norms: Vec<f64>,
@@ -232,6 +234,7 @@ impl<'a> Search<'a> {
         Search {
             space,
             generator_norms: generators.iter().map(|n| spectral(space, n)).collect(),
+            images: generators.iter().map(|n| *n * centre).collect(),
             defect: defect(polygon, &generators),
             generators,
             facing,
@@ -319,7 +322,7 @@ impl<'a> Search<'a> {
     /// norm is 1, so the bound grows linearly with the depth; in H² it grows with the product of
     /// the generators' norms. In E² the translation column is followed apart from the linear
     /// part, whose norm is 1: both bounds then grow linearly.
-    fn propagate(&self, parent: &Node, p_norm: f64, i: usize, child: &DMat3) -> (f64, f64, f64) {
+    fn propagate(&self, parent: &Node, p_norm: f64, i: usize) -> (f64, f64, f64) {
         let n_norm = self.generator_norms[i];
         let safety = 1.0 + 1e-10;
         if self.space.kappa() != 0.0 {
@@ -327,8 +330,7 @@ impl<'a> Search<'a> {
                 + p_norm * self.defect * n_norm
                 + 3.0 * GAMMA3 * p_norm * n_norm)
                 * safety;
-            let point_error =
-                (error + 3.0 * GAMMA3 * spectral(self.space, child)) * self.centre_length;
+            let point_error = (error + 3.0 * GAMMA3 * p_norm * n_norm) * self.centre_length;
             return (error, 0.0, point_error);
         }
         // E²: M = [A t; 0 1]. (PN)'s linear part is A_P A_N, its translation A_P t_N + t_P.
@@ -344,19 +346,39 @@ impl<'a> Search<'a> {
             + 3.0 * GAMMA3 * (p_norm * shift_n + shift_p))
             * safety;
         let o = self.centre.truncate().length();
-        let point_error =
-            error * o + shift + 3.0 * GAMMA3 * (p_norm * o + child.z_axis.truncate().length());
+        let point_error = error * o + shift + 3.0 * GAMMA3 * (p_norm * (o + shift_n) + shift_p);
         (error, shift, point_error)
     }
 
     fn record(&mut self, layer: &[(Node, u32)], depth: usize) {
         let mut count = 0;
+        // Distances from O grow with the chord ⟨p − O, p − O⟩: compare chords, and take one
+        // distance per layer for the farthest tile.
+        let chord = |p: DVec3| {
+            let d = p - self.centre;
+            self.space.point_dot(d, d)
+        };
+        let limit = match self.bound {
+            Bound::Radius(r) => {
+                let half = self.space.sin(r / 2.0);
+                let within = 4.0 * half * half;
+                if self.space.kappa() > 0.0 && r >= std::f64::consts::PI {
+                    f64::INFINITY
+                } else {
+                    within * (1.0 + 1e-12)
+                }
+            }
+            _ => f64::INFINITY,
+        };
+        let mut widest = 0.0f64;
+        let mut farthest = None;
         for (node, edge) in layer {
-            let d = self.distance(node.point);
-            self.farthest = self.farthest.max(d);
-            if let Bound::Radius(r) = self.bound
-                && d > r
-            {
+            let c = chord(node.point);
+            if c > widest || farthest.is_none() {
+                widest = c;
+                farthest = Some(node.point);
+            }
+            if c > limit {
                 continue;
             }
             count += 1;
@@ -368,6 +390,9 @@ impl<'a> Search<'a> {
                     edge: (*edge != u32::MAX).then_some(*edge),
                 });
             }
+        }
+        if let Some(p) = farthest {
+            self.farthest = self.farthest.max(self.distance(p));
         }
         self.counts.push(count);
     }
@@ -384,15 +409,16 @@ impl<'a> Search<'a> {
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
+        let bounded = self.reach.is_finite();
         for (parent, _) in layer {
-            if self.distance(parent.point) > self.reach {
+            if bounded && self.distance(parent.point) > self.reach {
                 continue;
             }
             let p_norm = spectral(self.space, &parent.matrix);
             for (i, n) in self.generators.iter().enumerate() {
-                let matrix = parent.matrix * *n;
-                let point = matrix * self.centre;
-                let (error, shift, point_error) = self.propagate(parent, p_norm, i, &matrix);
+                // The image of O first (N·O is precomputed); the matrix only for a new tile.
+                let point = parent.matrix * self.images[i];
+                let (error, shift, point_error) = self.propagate(parent, p_norm, i);
                 if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
@@ -403,7 +429,7 @@ impl<'a> Search<'a> {
                 grid.insert(point, point_error);
                 next.push((
                     Node {
-                        matrix,
+                        matrix: parent.matrix * *n,
                         point,
                         error,
                         shift,
