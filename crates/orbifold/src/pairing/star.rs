@@ -129,7 +129,12 @@ fn plan(symbol: &OrbifoldSymbol) -> Plan {
 #[derive(Clone, Debug)]
 struct Shape {
     weights: Vec<f64>,
+    /// A base weight per group, the construction's own (see [`BASES`]); 1 but for the sectors
+    /// of boundaries with corners.
+    bases: Vec<f64>,
     cuts: Vec<f64>,
+    /// The cap of each boundary with corners, which does not depend on R.
+    caps: Vec<Option<Cap>>,
 }
 
 /// The star's draft for `symbol` (E² and H²).
@@ -177,7 +182,9 @@ pub(crate) fn draft(
     let values = take_parameters(parameters, &defaults, &ranges)?;
     let mut shape = Shape {
         weights: vec![1.0; plan.groups.len()],
+        bases: vec![1.0; plan.groups.len()],
         cuts: cut_defaults,
+        caps: vec![None; boundaries],
     };
     for (i, &v) in values.iter().enumerate() {
         if i < boundaries {
@@ -186,45 +193,53 @@ pub(crate) fn draft(
             shape.weights[i - boundaries + 1] = v;
         }
     }
-    // A boundary with corners closes up only for some cuts (docs/orbifolds.md): without given
-    // parameters, try a few in turn.
-    let searched = parameters.is_none()
-        && shape
-            .cuts
-            .iter()
-            .zip(symbol.boundaries())
-            .any(|(_, c)| !c.is_empty());
-    let candidates: &[f64] = if searched {
+    // A boundary with corners closes up only for some cuts and widths (docs/orbifolds.md): its
+    // sector's base width is searched, and without given parameters its cut too.
+    let with_corners: Vec<bool> = symbol.boundaries().iter().map(|c| !c.is_empty()).collect();
+    let boundary_groups: Vec<usize> = plan
+        .sectors
+        .iter()
+        .filter(|s| matches!(s.kind, Kind::Boundary(_)))
+        .map(|s| s.group)
+        .collect();
+    let any = with_corners.iter().any(|&c| c);
+    let cuts: &[f64] = if any && parameters.is_none() {
         &CUT_CANDIDATES
     } else {
         &[f64::NAN]
     };
+    let bases: &[f64] = if any { &BASES } else { &[1.0] };
     let mut last = None;
     let mut solved = None;
-    for &candidate in candidates {
-        let mut trial = shape.clone();
-        if candidate.is_finite() {
-            for (cut, corners) in trial.cuts.iter_mut().zip(symbol.boundaries()) {
-                if !corners.is_empty() {
-                    *cut = candidate;
+    'search: for &base in bases {
+        for &candidate in cuts {
+            let mut trial = shape.clone();
+            for (b, &corners) in with_corners.iter().enumerate() {
+                if !corners {
+                    continue;
+                }
+                trial.bases[boundary_groups[b]] = base;
+                if candidate.is_finite() {
+                    trial.cuts[b] = candidate;
+                }
+                match cap(space, &symbol.boundaries()[b], trial.cuts[b]) {
+                    Ok(c) => trial.caps[b] = Some(c),
+                    Err(e) => {
+                        last = Some(e);
+                        continue;
+                    }
                 }
             }
-        }
-        match solve_radius(space, &plan, &trial)
-            .and_then(|r| assemble(space, &plan, &trial, r).map(|s| (s, r)))
-            .and_then(|(s, r)| {
-                convex_at_copies(space, &s)
-                    .then_some((s, trial.clone(), r))
-                    .ok_or_else(|| LayoutError::Unrealisable("the star is not convex at v".into()))
-            }) {
-            Ok(found) => {
-                solved = Some(found);
-                break;
+            match close(space, &plan, &trial) {
+                Ok(star) => {
+                    solved = Some((star, trial));
+                    break 'search;
+                }
+                Err(e) => last = Some(e),
             }
-            Err(e) => last = Some(e),
         }
     }
-    let Some((star, shape, _)) = solved else {
+    let Some((star, shape)) = solved else {
         return Err(last.unwrap_or_else(|| LayoutError::Unrealisable("no star".into())));
     };
     let mut values = values;
@@ -280,6 +295,22 @@ fn meanings(symbol: &OrbifoldSymbol, plan: &Plan, supported: usize) -> Vec<Strin
     out
 }
 
+/// Solves R and checks that the star is convex at the copies of v.
+fn close(space: Space, plan: &Plan, shape: &Shape) -> Result<Star, LayoutError> {
+    let r = solve_radius(space, plan, shape)?;
+    let star = assemble(space, plan, shape, r)?;
+    if convex_at_copies(space, &star) {
+        Ok(star)
+    } else {
+        Err(LayoutError::Unrealisable(
+            "the star is not convex at v".into(),
+        ))
+    }
+}
+
+/// The base widths tried, in turn, for the sectors of boundaries with corners.
+const BASES: [f64; 6] = [1.0, 0.5, 2.0, 0.25, 4.0, 0.1];
+
 /// The cuts tried, in turn, for boundaries with corners when no parameters are given.
 const CUT_CANDIDATES: [f64; 9] = [0.5, 0.7, 0.9, 0.95, 0.98, 0.3, 0.1, 0.99, 0.995];
 
@@ -308,10 +339,11 @@ struct Star {
 
 /// The sectors' widths: their groups' weights, scaled to add up to 2π.
 fn widths(plan: &Plan, shape: &Shape) -> Vec<f64> {
-    let total: f64 = plan.sectors.iter().map(|s| shape.weights[s.group]).sum();
+    let weight = |g: usize| shape.bases[g] * shape.weights[g];
+    let total: f64 = plan.sectors.iter().map(|s| weight(s.group)).sum();
     plan.sectors
         .iter()
-        .map(|s| TAU * shape.weights[s.group] / total)
+        .map(|s| TAU * weight(s.group) / total)
         .collect()
 }
 
@@ -343,7 +375,8 @@ fn assemble(space: Space, plan: &Plan, shape: &Shape, r: f64) -> Result<Star, La
             }
             Kind::Boundary(corners) => {
                 cut += 1;
-                boundary_chain(space, r, delta, corners, shape.cuts[cut - 1])?
+                let cap = shape.caps[cut - 1].as_ref();
+                boundary_chain(space, r, delta, corners, shape.cuts[cut - 1], cap)?
             }
         };
         let turn = Isometry::rotation(space, bearing + delta / 2.0);
@@ -464,6 +497,7 @@ fn boundary_chain(
     delta: f64,
     corners: &[Order],
     cut: f64,
+    cap: Option<&Cap>,
 ) -> Result<Vec<(DVec3, bool, Order)>, LayoutError> {
     let below = polar(space, r, -delta / 2.0);
     let offset = axis_offset(space, r, delta);
@@ -473,9 +507,8 @@ fn boundary_chain(
         let p0 = mirror_foot(space, r, delta, below, cut * offset)?;
         return Ok(vec![(p0, false, one), (ends(p0), false, one)]);
     }
-    let _ = offset;
-    let cap = cap(space, corners, cut)?;
-    let placed = place_cap(space, &cap, below)?;
+    let cap = cap.ok_or_else(|| LayoutError::Unrealisable("a boundary's cap is missing".into()))?;
+    let placed = place_cap(space, cap, below)?;
     Ok(placed
         .iter()
         .enumerate()
@@ -517,6 +550,7 @@ fn mirror_foot(
 }
 
 /// A cap: the polygon of a boundary's corners, centred at the origin.
+#[derive(Clone, Debug)]
 struct Cap {
     /// Corners P₀ … P_{n+1}, ambient (null directions for ideal ones).
     points: Vec<DVec3>,
