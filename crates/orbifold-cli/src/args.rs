@@ -686,10 +686,12 @@ pub enum ShapeArg {
 
 #[derive(Debug, Args)]
 pub struct LayoutArgs {
-    /// The kaleidoscopic signature, such as `*2333`, `*∞∞∞` or `*(3/2)33`.
+    /// The signature, such as `*2333`, `*∞∞∞` or `*(3/2)33`, or any orbifold symbol (`632`,
+    /// `22×`, `4*2`, `oo`): a polygon with side pairings (docs/orbifolds.md).
     #[arg(value_name = "SIG")]
     pub signature: String,
-    /// The free shape parameters, comma-separated, each a positive number.
+    /// The free shape parameters, comma-separated: positive numbers, each in its documented
+    /// range (`orbifold layout SIG` lists them).
     #[arg(
         long,
         value_name = "A,B,…",
@@ -724,7 +726,7 @@ pub struct LayoutArgs {
 
 #[derive(Debug, Args)]
 pub struct CoverArgs {
-    /// The kaleidoscopic signature.
+    /// The kaleidoscopic signature, or any orbifold symbol (its group from the side pairings).
     #[arg(value_name = "SIG")]
     pub signature: String,
     /// Every tile of word length at most D.

@@ -2,8 +2,10 @@
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use orbifold::Signature;
 use orbifold::cover::{Bound, Cover};
+use orbifold::pairing::FundamentalPolygon;
+use orbifold::pairing::cover::GroupCover;
+use orbifold::{OrbifoldSymbol, Signature};
 
 fn covers(c: &mut Criterion) {
     let mut group = c.benchmark_group("cover");
@@ -24,5 +26,53 @@ fn covers(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, covers);
+/// The certified geometric enumeration of any orbifold group (`orbifold::pairing::cover`) against
+/// the combinatorial kaleidoscopic cover, at the same number of tiles: the same reflection groups
+/// enumerated both ways, then groups with side pairings at about that many tiles.
+fn group_covers(c: &mut Criterion) {
+    let mut group = c.benchmark_group("group cover");
+    group.sample_size(10);
+    for (sig, depth) in [("*2222222", 6), ("*237", 24), ("*2323", 8)] {
+        let s: Signature = sig.parse().unwrap();
+        let tiles: u64 = Cover::enumerate(&s, Bound::Depth(depth), false)
+            .unwrap()
+            .counts_by_depth
+            .iter()
+            .sum();
+        let symbol: OrbifoldSymbol = sig.parse().unwrap();
+        let polygon = FundamentalPolygon::new(&symbol, &Default::default()).unwrap();
+        group.throughput(Throughput::Elements(tiles));
+        group.bench_function(format!("{sig} combinatorial ({tiles} tiles)"), |b| {
+            b.iter(|| Cover::enumerate(&s, Bound::Depth(depth), false).unwrap())
+        });
+        group.bench_function(format!("{sig} geometric ({tiles} tiles)"), |b| {
+            b.iter(|| {
+                GroupCover::enumerate_polygon(polygon.clone(), Bound::Depth(depth), false).unwrap()
+            })
+        });
+    }
+    for (sig, tiles) in [
+        ("2223", 30_000usize),
+        ("22×", 30_000),
+        ("oo", 30_000),
+        ("632", 30_000),
+    ] {
+        let symbol: OrbifoldSymbol = sig.parse().unwrap();
+        let polygon = FundamentalPolygon::new(&symbol, &Default::default()).unwrap();
+        let count: u64 = GroupCover::enumerate_polygon(polygon.clone(), Bound::Tiles(tiles), false)
+            .unwrap()
+            .counts_by_depth
+            .iter()
+            .sum();
+        group.throughput(Throughput::Elements(count));
+        group.bench_function(format!("{sig} geometric ({count} tiles)"), |b| {
+            b.iter(|| {
+                GroupCover::enumerate_polygon(polygon.clone(), Bound::Tiles(tiles), false).unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, covers, group_covers);
 criterion_main!(benches);

@@ -97,8 +97,8 @@ impl std::fmt::Display for CoverError {
             CoverError::Layout(why) => write!(f, "cannot lay out the polygon: {why}"),
             CoverError::Precision { depth } => write!(
                 f,
-                "tiles at depth {depth} lie too far from the base for double precision to tell which way their walls face; \
-                 ask for a smaller depth or radius"
+                "tiles at depth {depth} lie too far from the base for double precision to certify them \
+                 (which way their walls face, or which of them coincide); ask for a smaller depth or radius"
             ),
         }
     }

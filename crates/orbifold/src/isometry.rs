@@ -36,6 +36,20 @@ impl Isometry {
         }
     }
 
+    /// The isometry with this ambient matrix, which must preserve the form ⟨·,·⟩ of `space`
+    /// (a product of the other constructors, or a side pairing).
+    ///
+    /// ```
+    /// use orbifold::isometry::Isometry;
+    /// use orbifold::{space::Space, Geometry};
+    /// let s = Space::new(Geometry::Spherical);
+    /// let r = Isometry::rotation(s, 0.5);
+    /// assert_eq!(Isometry::from_matrix(s, r.matrix()), r);
+    /// ```
+    pub fn from_matrix(space: Space, matrix: glam::DMat3) -> Self {
+        Isometry { space, matrix }
+    }
+
     /// The rotation by `angle` radians (counter-clockwise) about the origin.
     pub fn rotation(space: Space, angle: f64) -> Self {
         let (s, c) = angle.sin_cos();

@@ -32,6 +32,7 @@ pub mod layout;
 pub mod necklace;
 pub mod notation;
 pub mod order;
+pub mod pairing;
 pub mod room;
 pub mod signature;
 pub mod space;

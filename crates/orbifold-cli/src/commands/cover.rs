@@ -1,11 +1,14 @@
-//! `orbifold cover`: the tiles of the universal cover, counted by word length.
+//! `orbifold cover`: the tiles of the universal cover, counted by word length. Kaleidoscopic
+//! signatures use the combinatorial reflection-group cover; every other good orbifold symbol the
+//! certified enumeration of its group from the side pairings (`orbifold::pairing::cover`).
 
 use std::io::Write;
 use std::time::Instant;
 
-use orbifold::Signature;
 use orbifold::cover::{Bound, Cover, Tile};
 use orbifold::growth::growth_series;
+use orbifold::pairing::cover::{GroupCover, GroupTile};
+use orbifold::{OrbifoldSymbol, Signature};
 use serde::Serialize;
 
 use crate::args::CoverArgs;
@@ -13,10 +16,15 @@ use crate::error::CliError;
 use crate::output;
 
 pub fn run(args: &CoverArgs) -> Result<(), CliError> {
-    let signature: Signature = args
-        .signature
-        .parse()
-        .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
+    let signature = match args.signature.parse::<Signature>() {
+        Ok(signature) => signature,
+        Err(e) => match args.signature.parse::<OrbifoldSymbol>() {
+            Ok(symbol) if symbol.as_kaleidoscopic().is_none() => {
+                return run_group(args, &symbol);
+            }
+            _ => return Err(CliError::Input(format!("{e}\n{}", e.snippet()))),
+        },
+    };
     let bound = bound(args)?;
     let start = Instant::now();
     let cover = Cover::enumerate(&signature, bound, args.tiles)
@@ -58,6 +66,56 @@ fn bound(args: &CoverArgs) -> Result<Bound, CliError> {
     })
 }
 
+/// A symbol with side pairings: the tiles of its group.
+fn run_group(args: &CoverArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError> {
+    let bound = bound(args)?;
+    let start = Instant::now();
+    let cover = GroupCover::enumerate(symbol, bound, args.tiles)
+        .map_err(|e| CliError::Input(e.to_string()))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let total: u64 = cover.counts_by_depth.iter().sum();
+    let mut out = output::stdout();
+    if args.json {
+        let report = CoverJson {
+            signature: symbol.to_string(),
+            geometry: symbol.geometry().name(),
+            counts_by_depth: cover.counts_by_depth.clone(),
+            total,
+            seconds,
+            tiles: args
+                .tiles
+                .then(|| cover.tiles.iter().map(TileJson::from).collect()),
+        };
+        serde_json::to_writer(&mut out, &report)?;
+        writeln!(out)?;
+    } else {
+        writeln!(
+            out,
+            "{}  {}  ({} polygon, {} edges)",
+            symbol,
+            symbol.geometry(),
+            cover.polygon.construction.name(),
+            cover.polygon.edges.len()
+        )?;
+        writeln!(out, "  depth  tiles")?;
+        for (d, count) in cover.counts_by_depth.iter().enumerate() {
+            writeln!(out, "  {d:<5}  {count}")?;
+        }
+        writeln!(out, "  total  {total}")?;
+        if let Some(order) = symbol.group_order() {
+            writeln!(out, "  group order 2/χ = {order}")?;
+        }
+        let rate = total as f64 / seconds.max(1e-9);
+        writeln!(
+            out,
+            "  {seconds:.3} s, {:.2} million tiles per second",
+            rate / 1e6
+        )?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
 #[derive(Serialize)]
 struct TileJson {
     depth: u32,
@@ -65,6 +123,22 @@ struct TileJson {
     wall: Option<u32>,
     /// The isometry: a 3×3 matrix on ambient coordinates, row by row.
     isometry: [[f64; 3]; 3],
+}
+
+impl From<&GroupTile> for TileJson {
+    fn from(tile: &GroupTile) -> Self {
+        let m = tile.matrix;
+        TileJson {
+            depth: tile.depth,
+            reflected: tile.reflected,
+            wall: tile.edge,
+            isometry: [
+                m.row(0).to_array(),
+                m.row(1).to_array(),
+                m.row(2).to_array(),
+            ],
+        }
+    }
 }
 
 impl From<&Tile> for TileJson {

@@ -1,12 +1,17 @@
-//! `orbifold layout`: the polygon of a signature, as text, JSON, SVG or PNG.
+//! `orbifold layout`: the polygon of a signature, as text, JSON, SVG or PNG. Kaleidoscopic
+//! signatures are laid out as mirror polygons; every other good orbifold symbol gets a
+//! fundamental polygon with side pairings (`orbifold::pairing`, docs/orbifolds.md).
 
+use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
+use glam::DMat3;
 use num_complex::Complex64;
-use orbifold::Signature;
 use orbifold::layout::{Edge, Layout, LayoutOptions, Shape, Vertex};
+use orbifold::pairing::{self, Cycle, EdgeKind, FundamentalPolygon};
 use orbifold::space::ModelGeodesic;
+use orbifold::{OrbifoldSymbol, Signature};
 use serde::Serialize;
 
 use crate::args::{LayoutArgs, ShapeArg};
@@ -16,10 +21,15 @@ use crate::report::OrderJson;
 use orbifold_picture::svg as picture;
 
 pub fn run(args: &LayoutArgs) -> Result<(), CliError> {
-    let signature: Signature = args
-        .signature
-        .parse()
-        .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
+    let signature = match args.signature.parse::<Signature>() {
+        Ok(signature) => signature,
+        Err(e) => match args.signature.parse::<OrbifoldSymbol>() {
+            Ok(symbol) if symbol.as_kaleidoscopic().is_none() => {
+                return run_paired(args, &symbol);
+            }
+            _ => return Err(CliError::Input(format!("{e}\n{}", e.snippet()))),
+        },
+    };
     let options = options(args)?;
     let layout = Layout::new(&signature, &options).map_err(|e| CliError::Input(e.to_string()))?;
     if let Some(path) = &args.output {
@@ -27,10 +37,33 @@ pub fn run(args: &LayoutArgs) -> Result<(), CliError> {
     }
     let mut out = output::stdout();
     if args.json {
-        serde_json::to_writer_pretty(&mut out, &LayoutJson::new(&layout, &options))?;
+        let polygon = FundamentalPolygon::from_layout(signature.clone().into(), layout.clone());
+        serde_json::to_writer_pretty(&mut out, &LayoutJson::new(&layout, &options, &polygon))?;
         writeln!(out)?;
     } else {
         write_text(&mut out, &layout)?;
+        if let Some(path) = &args.output {
+            writeln!(out, "wrote {}", path.display())?;
+        }
+    }
+    out.flush()?;
+    Ok(())
+}
+
+/// A symbol with cones, handles, cross-caps or several boundaries: its polygon with pairings.
+fn run_paired(args: &LayoutArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError> {
+    let options = options(args)?;
+    let polygon =
+        FundamentalPolygon::new(symbol, &options).map_err(|e| CliError::Input(e.to_string()))?;
+    if let Some(path) = &args.output {
+        draw_paired(&polygon, path, args.size)?;
+    }
+    let mut out = output::stdout();
+    if args.json {
+        serde_json::to_writer_pretty(&mut out, &PolygonJson::new(&polygon, &options))?;
+        writeln!(out)?;
+    } else {
+        write_paired_text(&mut out, &polygon)?;
         if let Some(path) = &args.output {
             writeln!(out, "wrote {}", path.display())?;
         }
@@ -145,6 +178,71 @@ struct EdgeJson {
     circle: Option<CircleJson>,
     #[serde(skip_serializing_if = "Option::is_none")]
     line: Option<LineJson>,
+    /// `mirror` or `paired`.
+    kind: &'static str,
+    /// The partner edge of a paired edge; null for a mirror.
+    partner: Option<usize>,
+    /// The group element g with g(P) the tile across this edge, as rows of its ambient matrix:
+    /// the reflection for a mirror; for an edge paired with j, the map of edge j onto this one.
+    neighbour: [[f64; 3]; 3],
+}
+
+/// A vertex cycle: the corners glued into one point of the orbifold.
+#[derive(Serialize)]
+pub(crate) struct CycleJson {
+    vertices: Vec<usize>,
+    /// `cone`, `corner`, `regular` or `ideal`.
+    kind: &'static str,
+    order: OrderJson,
+    angle_sum: f64,
+}
+
+impl From<&Cycle> for CycleJson {
+    fn from(c: &Cycle) -> Self {
+        CycleJson {
+            vertices: c.vertices.clone(),
+            kind: c.kind.name(),
+            order: OrderJson::from(&c.order),
+            angle_sum: c.angle_sum,
+        }
+    }
+}
+
+pub(crate) fn rows(m: DMat3) -> [[f64; 3]; 3] {
+    [
+        m.row(0).to_array(),
+        m.row(1).to_array(),
+        m.row(2).to_array(),
+    ]
+}
+
+fn kind_name(kind: EdgeKind) -> (&'static str, Option<usize>) {
+    match kind {
+        EdgeKind::Mirror => ("mirror", None),
+        EdgeKind::Paired { partner } => ("paired", Some(partner)),
+    }
+}
+
+fn geodesic_json(g: ModelGeodesic) -> (Option<CircleJson>, Option<LineJson>) {
+    match g {
+        ModelGeodesic::Circle { centre, radius } => (
+            Some(CircleJson {
+                cx: centre.re,
+                cy: centre.im,
+                r: radius,
+            }),
+            None,
+        ),
+        ModelGeodesic::Line { point, direction } => (
+            None,
+            Some(LineJson {
+                px: point.re,
+                py: point.im,
+                dx: direction.re,
+                dy: direction.im,
+            }),
+        ),
+    }
 }
 
 #[derive(Serialize)]
@@ -168,10 +266,11 @@ struct LayoutJson {
     area: f64,
     centre: PointJson,
     angle: f64,
+    cycles: Vec<CycleJson>,
 }
 
 impl LayoutJson {
-    fn new(layout: &Layout, options: &LayoutOptions) -> Self {
+    fn new(layout: &Layout, options: &LayoutOptions, polygon: &FundamentalPolygon) -> Self {
         let vertex = |v: &Vertex| VertexJson {
             x: v.position.re,
             y: v.position.im,
@@ -179,32 +278,18 @@ impl LayoutJson {
             angle: v.angle,
             ideal: v.ideal,
         };
-        let edge = |e: &Edge| {
-            let (circle, line) = match e.geodesic {
-                ModelGeodesic::Circle { centre, radius } => (
-                    Some(CircleJson {
-                        cx: centre.re,
-                        cy: centre.im,
-                        r: radius,
-                    }),
-                    None,
-                ),
-                ModelGeodesic::Line { point, direction } => (
-                    None,
-                    Some(LineJson {
-                        px: point.re,
-                        py: point.im,
-                        dx: direction.re,
-                        dy: direction.im,
-                    }),
-                ),
-            };
+        let edge = |(e, p): (&Edge, &pairing::Edge)| {
+            let (circle, line) = geodesic_json(e.geodesic);
+            let (kind, partner) = kind_name(p.kind);
             EdgeJson {
                 from: e.from,
                 to: e.to,
                 length: number(e.length),
                 circle,
                 line,
+                kind,
+                partner,
+                neighbour: rows(p.neighbour),
             }
         };
         LayoutJson {
@@ -219,7 +304,7 @@ impl LayoutJson {
                 Shape::Incircle => "incircle",
             },
             vertices: layout.vertices.iter().map(vertex).collect(),
-            edges: layout.edges.iter().map(edge).collect(),
+            edges: layout.edges.iter().zip(&polygon.edges).map(edge).collect(),
             free_parameters: layout.parameters.clone(),
             parameter_meaning: layout.parameter_meaning.describe(layout.vertices.len()),
             area: layout.area,
@@ -228,6 +313,7 @@ impl LayoutJson {
                 y: layout.centre.im,
             },
             angle: layout.heading.to_degrees(),
+            cycles: polygon.cycles.iter().map(CycleJson::from).collect(),
         }
     }
 }
@@ -300,4 +386,472 @@ fn write_text(out: &mut impl Write, layout: &Layout) -> std::io::Result<()> {
         writeln!(out, "  {i:<4}  {ends:<7}  {length:<12}  {geodesic}")?;
     }
     Ok(())
+}
+
+/// The JSON of a polygon with side pairings: the keys of a kaleidoscopic layout, and the
+/// construction, the parameters' meanings and how many of the symbol's parameters are missing.
+#[derive(Serialize)]
+pub(crate) struct PolygonJson {
+    signature: String,
+    canonical: String,
+    euler_characteristic: String,
+    geometry: &'static str,
+    model: &'static str,
+    shape: &'static str,
+    construction: &'static str,
+    vertices: Vec<VertexJson>,
+    edges: Vec<EdgeJson>,
+    cycles: Vec<CycleJson>,
+    free_parameters: Vec<f64>,
+    parameter_meaning: String,
+    parameter_meanings: Vec<String>,
+    missing_parameters: usize,
+    area: f64,
+    centre: PointJson,
+    angle: f64,
+}
+
+fn model_name(polygon: &FundamentalPolygon) -> &'static str {
+    match polygon.geometry {
+        orbifold::Geometry::Spherical => "stereographic",
+        orbifold::Geometry::Euclidean => "euclidean",
+        orbifold::Geometry::Hyperbolic => "poincare",
+    }
+}
+
+/// The order of each vertex's cycle.
+fn vertex_orders(polygon: &FundamentalPolygon) -> Vec<orbifold::Order> {
+    let mut orders = vec![orbifold::Order::integer(1); polygon.vertices.len()];
+    for c in &polygon.cycles {
+        for &v in &c.vertices {
+            orders[v] = c.order;
+        }
+    }
+    orders
+}
+
+fn edge_length(polygon: &FundamentalPolygon, e: &pairing::Edge) -> f64 {
+    match (e.from, e.to) {
+        (Some(a), Some(b)) => {
+            let (a, b) = (polygon.vertices[a], polygon.vertices[b]);
+            if a.ideal || b.ideal {
+                f64::INFINITY
+            } else {
+                polygon.space().ambient_distance(a.ambient, b.ambient)
+            }
+        }
+        _ => f64::INFINITY,
+    }
+}
+
+impl PolygonJson {
+    pub(crate) fn new(polygon: &FundamentalPolygon, options: &LayoutOptions) -> Self {
+        let space = polygon.space();
+        let orders = vertex_orders(polygon);
+        let chi = polygon.symbol.euler_characteristic();
+        PolygonJson {
+            signature: polygon.symbol.to_string(),
+            canonical: polygon.symbol.canonical().to_string(),
+            euler_characteristic: chi.to_string(),
+            geometry: polygon.geometry.name(),
+            model: model_name(polygon),
+            shape: match options.shape {
+                Shape::Default => "default",
+                Shape::Parameters(_) => "parameters",
+                Shape::Incircle => "incircle",
+            },
+            construction: polygon.construction.name(),
+            vertices: polygon
+                .vertices
+                .iter()
+                .zip(&orders)
+                .map(|(v, order)| VertexJson {
+                    x: v.position.re,
+                    y: v.position.im,
+                    order: OrderJson::from(order),
+                    angle: v.angle,
+                    ideal: v.ideal,
+                })
+                .collect(),
+            edges: polygon
+                .edges
+                .iter()
+                .map(|e| {
+                    let (circle, line) = geodesic_json(space.model_geodesic(e.wall));
+                    let (kind, partner) = kind_name(e.kind);
+                    EdgeJson {
+                        from: e.from,
+                        to: e.to,
+                        length: number(edge_length(polygon, e)),
+                        circle,
+                        line,
+                        kind,
+                        partner,
+                        neighbour: rows(e.neighbour),
+                    }
+                })
+                .collect(),
+            cycles: polygon.cycles.iter().map(CycleJson::from).collect(),
+            free_parameters: polygon.parameters.clone(),
+            parameter_meaning: parameter_summary(polygon),
+            parameter_meanings: polygon.parameter_meanings.clone(),
+            missing_parameters: polygon.missing_parameters,
+            area: polygon.area,
+            centre: PointJson {
+                x: polygon.centre.re,
+                y: polygon.centre.im,
+            },
+            angle: options.angle.to_degrees(),
+        }
+    }
+}
+
+/// One sentence on the parameters, with the ones this construction does not offer.
+pub(crate) fn parameter_summary(polygon: &FundamentalPolygon) -> String {
+    let mut text = if polygon.parameter_meanings.is_empty() {
+        "none: the polygon is rigid".to_string()
+    } else {
+        polygon
+            .parameter_meanings
+            .iter()
+            .enumerate()
+            .map(|(i, m)| format!("{}: {m}", i + 1))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    if polygon.missing_parameters > 0 {
+        let _ = write!(
+            text,
+            " ({} more of the orbifold's {} shape parameters are not offered by the {} construction; see docs/orbifolds.md)",
+            polygon.missing_parameters,
+            polygon.symbol.free_parameters(),
+            polygon.construction.name()
+        );
+    }
+    text
+}
+
+/// How each edge is glued, in words: `mirror`, or `paired with 3 (rotation)`.
+pub(crate) fn pairing_text(polygon: &FundamentalPolygon, i: usize) -> String {
+    let e = &polygon.edges[i];
+    match e.kind {
+        EdgeKind::Mirror => "mirror".to_string(),
+        EdgeKind::Paired { partner } if e.reverses_orientation() => {
+            format!("paired with {partner} by a glide reflection")
+        }
+        EdgeKind::Paired { partner } => {
+            let what = isometry_kind(polygon, e.neighbour);
+            format!("paired with {partner} by {what}")
+        }
+    }
+}
+
+/// Elliptic, parabolic or hyperbolic (a rotation, a limit rotation, a translation), from the
+/// trace of the orientation-preserving ambient matrix: 1 + 2 cos θ for a rotation by θ.
+fn isometry_kind(polygon: &FundamentalPolygon, m: DMat3) -> String {
+    let trace = m.x_axis.x + m.y_axis.y + m.z_axis.z;
+    let euclidean = polygon.geometry == orbifold::Geometry::Euclidean;
+    if euclidean && (m.x_axis.x - 1.0).abs() < 1e-9 && (m.y_axis.y - 1.0).abs() < 1e-9 {
+        return "a translation".into();
+    }
+    if trace < 3.0 - 1e-9 {
+        let angle = ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos();
+        format!("a rotation by {:.1}°", angle.to_degrees())
+    } else if trace < 3.0 + 1e-9 {
+        "a parabolic rotation about an ideal point".into()
+    } else {
+        "a hyperbolic translation".into()
+    }
+}
+
+fn write_paired_text(out: &mut impl Write, polygon: &FundamentalPolygon) -> std::io::Result<()> {
+    let model = match model_name(polygon) {
+        "stereographic" => "stereographic plane",
+        "poincare" => "Poincaré disk",
+        _ => "Euclidean plane",
+    };
+    writeln!(
+        out,
+        "{}  {} ({model}), {} construction",
+        polygon.symbol,
+        polygon.geometry,
+        polygon.construction.name()
+    )?;
+    let params: Vec<String> = polygon.parameters.iter().map(|p| format!("{p}")).collect();
+    let params = if params.is_empty() {
+        "none".to_string()
+    } else {
+        params.join(", ")
+    };
+    writeln!(out, "  free parameters  {params}")?;
+    writeln!(out, "                   {}", parameter_summary(polygon))?;
+    writeln!(out, "  area             {:.9}", polygon.area)?;
+    writeln!(
+        out,
+        "  centre           ({:.6}, {:.6})",
+        polygon.centre.re, polygon.centre.im
+    )?;
+    let orders = vertex_orders(polygon);
+    writeln!(
+        out,
+        "  vertex  order  angle        ideal  x                  y"
+    )?;
+    for (i, v) in polygon.vertices.iter().enumerate() {
+        writeln!(
+            out,
+            "  {i:<6}  {:<5}  {:<11.9}  {:<5}  {:<+18.15}  {:<+18.15}",
+            orders[i].to_string(),
+            v.angle,
+            if v.ideal { "yes" } else { "no" },
+            v.position.re,
+            v.position.im
+        )?;
+    }
+    writeln!(out, "  edge  from→to  length        glued")?;
+    for (i, e) in polygon.edges.iter().enumerate() {
+        let ends = match (e.from, e.to) {
+            (Some(a), Some(b)) => format!("{a}→{b}"),
+            _ => "-".to_string(),
+        };
+        let length = edge_length(polygon, e);
+        let length = if length.is_finite() {
+            format!("{length:.9}")
+        } else {
+            "∞".to_string()
+        };
+        writeln!(
+            out,
+            "  {i:<4}  {ends:<7}  {length:<12}  {}",
+            pairing_text(polygon, i)
+        )?;
+    }
+    writeln!(out, "  cycle  kind     order  angle sum     vertices")?;
+    for (i, c) in polygon.cycles.iter().enumerate() {
+        let vertices: Vec<String> = c.vertices.iter().map(ToString::to_string).collect();
+        writeln!(
+            out,
+            "  {i:<5}  {:<7}  {:<5}  {:<12.9}  {}",
+            c.kind.name(),
+            c.order.to_string(),
+            c.angle_sum,
+            vertices.join(" ")
+        )?;
+    }
+    Ok(())
+}
+
+fn draw_paired(polygon: &FundamentalPolygon, path: &Path, size: u32) -> Result<(), CliError> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let chi = polygon.symbol.euler_characteristic();
+    let title = format!("{}   χ = {}   {}", polygon.symbol, chi, polygon.geometry);
+    let svg = paired_svg(polygon, &title, size);
+    let bytes = match extension.as_deref() {
+        Some("svg") => svg.into_bytes(),
+        Some("png") => picture::svg_to_png(&svg).map_err(CliError::Input)?,
+        _ => {
+            return Err(CliError::Input(format!(
+                "cannot draw to {}: the file name must end in .svg or .png",
+                path.display()
+            )));
+        }
+    };
+    write_atomic(path, &bytes)
+        .map_err(|e| CliError::Input(format!("cannot write {}: {e}", path.display())))
+}
+
+/// Points along edge `e` in model coordinates: finite ends by geodesic interpolation in ambient
+/// coordinates; towards an ideal end w from z, along the Poincaré disk's geodesic
+/// ζ ↦ (ζ + z)/(1 + z̄ζ) of the segment from 0 towards (w − z)/(1 − z̄w).
+fn edge_points(polygon: &FundamentalPolygon, e: &pairing::Edge) -> Vec<Complex64> {
+    let space = polygon.space();
+    let (Some(a), Some(b)) = (e.from, e.to) else {
+        return Vec::new();
+    };
+    let (a, b) = (polygon.vertices[a], polygon.vertices[b]);
+    let steps = 48;
+    let towards_ideal = |z: Complex64, w: Complex64| {
+        let d = (w - z) / (1.0 - z.conj() * w);
+        (0..=steps)
+            .map(|k| {
+                let t = 0.999 * f64::from(k) / f64::from(steps);
+                let zeta = d * t;
+                (zeta + z) / (1.0 + z.conj() * zeta)
+            })
+            .collect::<Vec<_>>()
+    };
+    match (a.ideal, b.ideal) {
+        (false, false) => (0..=steps)
+            .map(|k| {
+                let t = f64::from(k) / f64::from(steps);
+                space.to_model(space.interpolate(a.ambient, b.ambient, t))
+            })
+            .collect(),
+        (false, true) => towards_ideal(a.position, b.position),
+        (true, false) => {
+            let mut p = towards_ideal(b.position, a.position);
+            p.reverse();
+            p
+        }
+        (true, true) => vec![a.position, b.position],
+    }
+}
+
+/// The polygon in its model: mirrors in blue, paired edges in red with matching letters and
+/// arrows (an edge and its partner carry the same letter; the arrows show which way the pairing
+/// glues them, as in textbooks), vertices coloured by their cycle's kind.
+fn paired_svg(polygon: &FundamentalPolygon, title: &str, size: u32) -> String {
+    let edges: Vec<Vec<Complex64>> = polygon
+        .edges
+        .iter()
+        .map(|e| edge_points(polygon, e))
+        .collect();
+    let all: Vec<Complex64> = edges.iter().flatten().copied().collect();
+    let hyperbolic = polygon.geometry == orbifold::Geometry::Hyperbolic;
+    let (centre, half) = if hyperbolic {
+        (Complex64::new(0.0, 0.0), 1.05)
+    } else {
+        let (lo, hi) = all.iter().fold(
+            (
+                Complex64::new(f64::MAX, f64::MAX),
+                Complex64::new(f64::MIN, f64::MIN),
+            ),
+            |(lo, hi), z| {
+                (
+                    Complex64::new(lo.re.min(z.re), lo.im.min(z.im)),
+                    Complex64::new(hi.re.max(z.re), hi.im.max(z.im)),
+                )
+            },
+        );
+        (
+            (lo + hi) / 2.0,
+            0.55 * (hi.re - lo.re).max(hi.im - lo.im).max(1e-9),
+        )
+    };
+    let s = f64::from(size);
+    let scale = s / (2.0 * half);
+    let px = |z: Complex64| {
+        (
+            (z.re - centre.re) * scale + s / 2.0,
+            s / 2.0 - (z.im - centre.im) * scale + 24.0,
+        )
+    };
+    let mut svg = String::new();
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{}" viewBox="0 0 {size} {}">"#,
+        size + 24,
+        size + 24
+    );
+    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        svg,
+        r#"<text x="8" y="18" font-family="sans-serif" font-size="14">{}</text>"#,
+        escape(title)
+    );
+    if hyperbolic {
+        let (cx, cy) = px(Complex64::new(0.0, 0.0));
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="none" stroke="#999" stroke-width="1"/>"##,
+            scale
+        );
+    }
+    let _ = writeln!(
+        svg,
+        r##"<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="#c0392b"/></marker></defs>"##
+    );
+    let mut letters = vec![None; polygon.edges.len()];
+    let mut next = 0u8;
+    for (i, e) in polygon.edges.iter().enumerate() {
+        if let EdgeKind::Paired { partner } = e.kind
+            && letters[i].is_none()
+        {
+            let letter = (b'a' + next % 26) as char;
+            next += 1;
+            letters[i] = Some(letter);
+            letters[partner] = Some(letter);
+        }
+    }
+    for (i, (e, points)) in polygon.edges.iter().zip(&edges).enumerate() {
+        let d: Vec<String> = points
+            .iter()
+            .map(|&z| {
+                let (x, y) = px(z);
+                format!("{x:.2},{y:.2}")
+            })
+            .collect();
+        let (colour, width) = match e.kind {
+            EdgeKind::Mirror => ("#1f6fd1", 3.5),
+            EdgeKind::Paired { .. } => ("#c0392b", 2.0),
+        };
+        let _ = writeln!(
+            svg,
+            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##,
+            d.join(" ")
+        );
+        if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
+            // An orientation-preserving pairing takes the partner's start to this edge's end:
+            // the arrow runs forwards on the lower-numbered edge, backwards on the other; a
+            // glide keeps the direction, so both arrows run forwards.
+            let forward = e.reverses_orientation() || i < partner;
+            let mid = points.len() / 2;
+            let (a, b) = (
+                points[mid.saturating_sub(1)],
+                points[(mid + 1).min(points.len() - 1)],
+            );
+            let (a, b) = if forward { (a, b) } else { (b, a) };
+            let ((x0, y0), (x1, y1)) = (px(a), px(b));
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{x0:.2}" y1="{y0:.2}" x2="{x1:.2}" y2="{y1:.2}" stroke="{colour}" stroke-width="2" marker-end="url(#arrow)"/>"##
+            );
+            let (x, y) = px(points[mid]);
+            let _ = writeln!(
+                svg,
+                r##"<text x="{:.2}" y="{:.2}" font-family="sans-serif" font-size="15" fill="{colour}">{letter}</text>"##,
+                x + 6.0,
+                y - 6.0
+            );
+        }
+    }
+    let orders = vertex_orders(polygon);
+    let mut kinds = vec!["regular"; polygon.vertices.len()];
+    for c in &polygon.cycles {
+        for &v in &c.vertices {
+            kinds[v] = c.kind.name();
+        }
+    }
+    for (i, v) in polygon.vertices.iter().enumerate() {
+        let (x, y) = px(v.position);
+        let fill = match kinds[i] {
+            "cone" => "#e67e22",
+            "corner" => "#1f6fd1",
+            "ideal" => "#7f8c8d",
+            _ => "#222",
+        };
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{x:.2}" cy="{y:.2}" r="4" fill="{fill}"/>"##
+        );
+        if !orders[i].is_one() {
+            let _ = writeln!(
+                svg,
+                r##"<text x="{:.2}" y="{:.2}" font-family="sans-serif" font-size="12" fill="{fill}">{}</text>"##,
+                x + 5.0,
+                y + 14.0,
+                escape(&orders[i].to_string())
+            );
+        }
+    }
+    svg.push_str("</svg>\n");
+    svg
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }

@@ -93,6 +93,17 @@ pub enum LayoutError {
         /// The value.
         value: f64,
     },
+    /// A parameter outside the range in which its family is documented to be valid.
+    ParameterOutOfRange {
+        /// 0-based index.
+        index: usize,
+        /// The value.
+        value: f64,
+        /// The smallest valid value (exclusive).
+        low: f64,
+        /// The largest valid value (exclusive).
+        high: f64,
+    },
     /// Angles for which no polygon of the geometry exists.
     Unrealisable(String),
     /// A placement outside the model (|at| ≥ 1 in the Poincaré disk, or not finite).
@@ -123,6 +134,16 @@ impl fmt::Display for LayoutError {
                     index + 1
                 )
             }
+            LayoutError::ParameterOutOfRange {
+                index,
+                value,
+                low,
+                high,
+            } => write!(
+                f,
+                "free parameter {} is {value}, but it must lie strictly between {low} and {high}",
+                index + 1
+            ),
             LayoutError::Unrealisable(what) => write!(f, "cannot lay out: {what}"),
             LayoutError::Placement(what) => write!(f, "invalid placement: {what}"),
         }
@@ -269,13 +290,13 @@ fn check_placement(space: Space, options: &LayoutOptions) -> Result<(), LayoutEr
 
 /// A polygon before placement: its walls, its corners, its parameters, its centre.
 pub(crate) struct RawPolygon {
-    walls: Vec<DVec3>,
+    pub(crate) walls: Vec<DVec3>,
     /// Corner positions, in model coordinates (ideal ones on the unit circle).
-    corners: Vec<Complex64>,
-    parameters: Vec<f64>,
-    meaning: ParameterMeaning,
+    pub(crate) corners: Vec<Complex64>,
+    pub(crate) parameters: Vec<f64>,
+    pub(crate) meaning: ParameterMeaning,
     /// The centre in model coordinates (moved to the origin before placement).
-    centre: Complex64,
+    pub(crate) centre: Complex64,
 }
 
 fn build(

@@ -1,0 +1,779 @@
+//! The tiles of any orbifold group: every image of the fundamental polygon exactly once, by word
+//! length in the generators `neighbour(i)` (ARCHITECTURE.md §6, §11).
+//!
+//! Breadth first from the base tile: the tile across edge i of the tile g is g·neighbour(i).
+//! Two words give the same tile exactly when they give the same image of the polygon's centre O:
+//! O is interior, so distinct tiles put their images of O at least 2δ apart, δ the distance from
+//! O to the polygon's boundary, and in ambient coordinates at least σ = 2·S_κ(δ) apart (the chord:
+//! the Euclidean distance of ambient points is at least the Minkowski one on the hyperboloid).
+//! Images are deduplicated in a grid of cells of size σ/2 — but only when a rigorous bound ε on
+//! the error of each computed image is below σ/16, so that the same tile's images lie within
+//! σ/8 and different tiles' beyond 7σ/8, more than a cell's diagonal. Otherwise the enumeration stops with
+//! [`CoverError::Precision`] instead of guessing.
+//!
+//! The bound follows each tile's matrix in the spectral norm: ‖P̃Ñ − PN‖ ≤ ‖P̃ − P‖·‖N‖ +
+//! ‖P‖·‖Ñ − N‖ + 3γ₃‖P‖‖N‖ (the last term the rounding of the product: Higham, *Accuracy and
+//! Stability of Numerical Algorithms*, §3.5), and an image of O is off by at most that times ‖O‖
+//! plus its own rounding; in E² the translation column is followed apart from the linear part
+//! ([`Search::propagate`]). ‖Ñ − N‖ ≤ e_gen·‖N‖ with e_gen the generators' measured defect: how
+//! far each pairing and its partner's are from inverse, and how far the vertex cycles' angle
+//! sums are from Poincaré's values (which is how far the group's relations are from holding),
+//! times 16. The bound is therefore certified relative to that measured defect of the polygon,
+//! not to an independent exact polygon.
+//!
+//! Only the last two layers are kept for deduplication: a word of length d + 1 can only equal
+//! one of length d − 1, d or d + 1 (the generators are closed under inverses).
+
+use glam::{DMat3, DVec3};
+use rustc_hash::FxHashMap;
+
+use super::{EdgeKind, FundamentalPolygon};
+use crate::conway::OrbifoldSymbol;
+use crate::cover::{Bound, Cover, CoverError, MEMORY_BUDGET};
+use crate::euler::Geometry;
+use crate::layout::LayoutOptions;
+use crate::space::Space;
+
+/// One tile: the group element that carries the base polygon onto it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GroupTile {
+    /// The isometry as a 3×3 matrix on ambient coordinates.
+    pub matrix: DMat3,
+    /// Word length in the generators `neighbour(i)`: the distance from the base tile.
+    pub depth: u32,
+    /// Whether the isometry reverses orientation.
+    pub reflected: bool,
+    /// The edge of this tile across which it was reached from its parent; `None` for the base.
+    pub edge: Option<u32>,
+}
+
+/// The tiles of an orbifold group.
+///
+/// ```
+/// use orbifold::cover::Bound;
+/// use orbifold::pairing::cover::GroupCover;
+/// // The rotation group of the icosahedron has 60 elements.
+/// let cover = GroupCover::enumerate(&"532".parse().unwrap(), Bound::All, true).unwrap();
+/// assert_eq!(cover.tiles.len(), 60);
+/// ```
+#[derive(Clone, Debug)]
+pub struct GroupCover {
+    /// The number of tiles at each word length, from 0.
+    pub counts_by_depth: Vec<u64>,
+    /// The tiles, by depth, when requested.
+    pub tiles: Vec<GroupTile>,
+    /// The largest intrinsic distance from the base tile's centre to a tile's centre reached.
+    pub farthest: f64,
+    /// The polygon the group acts on.
+    pub polygon: FundamentalPolygon,
+}
+
+/// How far beyond `--radius` plus the polygon's reach the search keeps expanding when the polygon
+/// has ideal vertices (a geodesic can cross a tile deep in its cusp).
+const CUSP_MARGIN: f64 = 2.0;
+
+/// The unit roundoff of f64.
+const U: f64 = f64::EPSILON / 2.0;
+
+/// γ₃ = 3u/(1 − 3u): the relative error bound of a three-term dot product.
+const GAMMA3: f64 = 3.0 * U / (1.0 - 3.0 * U);
+
+impl GroupCover {
+    /// The tiles of `symbol`'s group (default shape) within `bound`. Kaleidoscopic symbols use
+    /// the combinatorial [`Cover`]; the others the certified geometric enumeration.
+    pub fn enumerate(
+        symbol: &OrbifoldSymbol,
+        bound: Bound,
+        keep_tiles: bool,
+    ) -> Result<GroupCover, CoverError> {
+        if symbol.is_bad() {
+            let why = symbol.reason().unwrap_or_else(|| "not an orbifold".into());
+            return Err(CoverError::NotAnOrbifold(why));
+        }
+        let polygon = FundamentalPolygon::new(symbol, &LayoutOptions::default())
+            .map_err(|e| CoverError::Layout(e.to_string()))?;
+        if let Some(signature) = symbol.as_kaleidoscopic() {
+            let cover = Cover::enumerate(&signature, bound, keep_tiles)?;
+            return Ok(GroupCover::from_cover(cover, polygon));
+        }
+        GroupCover::enumerate_polygon(polygon, bound, keep_tiles)
+    }
+
+    fn from_cover(cover: Cover, polygon: FundamentalPolygon) -> GroupCover {
+        GroupCover {
+            counts_by_depth: cover.counts_by_depth,
+            tiles: cover
+                .tiles
+                .iter()
+                .map(|t| GroupTile {
+                    matrix: t.matrix,
+                    depth: t.depth,
+                    reflected: t.reflected,
+                    edge: t.wall,
+                })
+                .collect(),
+            farthest: cover.farthest,
+            polygon,
+        }
+    }
+
+    /// The certified geometric enumeration for the group of a given polygon (any construction,
+    /// kaleidoscopic ones included, any shape and placement).
+    pub fn enumerate_polygon(
+        polygon: FundamentalPolygon,
+        bound: Bound,
+        keep_tiles: bool,
+    ) -> Result<GroupCover, CoverError> {
+        if polygon.geometry != Geometry::Spherical && matches!(bound, Bound::All) {
+            return Err(CoverError::Unbounded(polygon.geometry));
+        }
+        let mut search = Search::new(&polygon, bound, keep_tiles);
+        search.run()?;
+        Ok(GroupCover {
+            counts_by_depth: search.counts,
+            tiles: search.kept,
+            farthest: search.farthest,
+            polygon,
+        })
+    }
+}
+
+/// ‖M‖∞: the largest row sum of absolute values.
+fn norm(m: &DMat3) -> f64 {
+    let r = |i: usize| m.row(i).abs().element_sum();
+    r(0).max(r(1)).max(r(2))
+}
+
+/// A bound on the spectral norm ‖M‖₂ of a (computed) isometry: on the sphere √‖MᵀM‖∞ (≈ 1);
+/// on the hyperboloid C + √(C² − 1) = e^d with C = |M₃₃| = cosh d, d the distance M moves the
+/// origin (a Lorentz matrix is a rotation, a boost by d and a rotation); in E² the norm of the
+/// linear 2×2 part, from its Gram matrix's larger eigenvalue. A relative 10⁻¹² covers the
+/// computed matrix's distance from an exact isometry.
+fn spectral(space: Space, m: &DMat3) -> f64 {
+    let k = space.kappa();
+    let value = if k > 0.0 {
+        norm(&(m.transpose() * *m)).sqrt()
+    } else if k < 0.0 {
+        let c = m.z_axis.z.abs().max(1.0);
+        c + (c * c - 1.0).sqrt()
+    } else {
+        let (x, y) = (m.x_axis.truncate(), m.y_axis.truncate());
+        let (a, b, c) = (x.length_squared(), x.dot(y), y.length_squared());
+        ((a + c) / 2.0 + (((a - c) / 2.0).powi(2) + b * b).sqrt()).sqrt()
+    };
+    value * (1.0 + 1e-12)
+}
+
+/// A tile in the search: its matrix, the image of the centre, and a bound on ‖M̃ − M‖∞, the
+/// distance of its computed matrix from the exact group element.
+#[derive(Clone, Copy)]
+struct Node {
+    matrix: DMat3,
+    point: DVec3,
+    /// The error bound (see [`Bounds`]); in E² of the linear part alone.
+    error: f64,
+    /// In E²: the error bound of the translation column; 0 otherwise.
+    shift: f64,
+}
+
+struct Search<'a> {
+    space: Space,
+    generators: Vec<DMat3>,
+    /// N·O for each generator N.
+    images: Vec<DVec3>,
+    /// For each generator: ‖N‖₂ (of its linear part in E²), and the edge of the child that
+    /// faces the parent.
+    generator_norms: Vec<f64>,
+    facing: Vec<u32>,
+    centre: DVec3,
+    /// ‖O‖₂.
+    centre_length: f64,
+    /// The minimum ambient distance between images of the centre, σ.
+    separation: f64,
+    /// The generators' error e_gen.
+    defect: f64,
+    bound: Bound,
+    /// Tiles farther than this from the centre are not expanded (radius bounds).
+    reach: f64,
+    keep: bool,
+    counts: Vec<u64>,
+    kept: Vec<GroupTile>,
+    farthest: f64,
+    polygon: &'a FundamentalPolygon,
+}
+
+impl<'a> Search<'a> {
+    fn new(polygon: &'a FundamentalPolygon, bound: Bound, keep: bool) -> Self {
+        let space = polygon.space();
+        let generators: Vec<DMat3> = polygon.edges.iter().map(|e| e.neighbour).collect();
+        let facing = polygon
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| match e.kind {
+                EdgeKind::Mirror => i as u32,
+                EdgeKind::Paired { partner } => partner as u32,
+            })
+            .collect();
+        let centre = polygon.centre_ambient();
+        let delta = polygon.clearance();
+        let diameter = polygon
+            .vertices
+            .iter()
+            .filter(|v| !v.ideal)
+            .map(|v| space.ambient_distance(centre, v.ambient))
+            .fold(0.0, f64::max);
+        // The tiles that a geodesic from the centre to a tile within r crosses have their
+        // centres within r + diameter: expanding those reaches every tile within r.
+        let cusps = polygon.vertices.iter().any(|v| v.ideal);
+        let reach = match bound {
+            Bound::Radius(r) if cusps => r + 2.0 * diameter + CUSP_MARGIN,
+            Bound::Radius(r) => r + diameter * (1.0 + 1e-9) + 1e-9,
+            _ => f64::INFINITY,
+        };
+        Search {
+            space,
+            generator_norms: generators.iter().map(|n| spectral(space, n)).collect(),
+            images: generators.iter().map(|n| *n * centre).collect(),
+            defect: defect(polygon, &generators),
+            generators,
+            facing,
+            centre,
+            centre_length: centre.length(),
+            separation: 2.0 * space.sin(delta),
+            bound,
+            reach,
+            keep,
+            counts: Vec::new(),
+            kept: Vec::new(),
+            farthest: 0.0,
+            polygon,
+        }
+    }
+
+    fn distance(&self, point: DVec3) -> f64 {
+        self.space.ambient_distance(self.centre, point)
+    }
+
+    fn run(&mut self) -> Result<(), CoverError> {
+        let base = Node {
+            matrix: DMat3::IDENTITY,
+            point: self.centre,
+            error: 0.0,
+            shift: 0.0,
+        };
+        let cell = self.separation / 2.0;
+        if !(cell > 0.0 && cell.is_finite()) {
+            return Err(CoverError::Layout(
+                "the polygon's centre is not inside it".into(),
+            ));
+        }
+        let bytes_per_tile = (std::mem::size_of::<Node>() + 48) as u128;
+        // One grid holds the last two layers and the one being built; the layer before those
+        // is evicted before each expansion (a word of length d + 1 equals none shorter than d − 1).
+        let mut grid = Grid::new(cell);
+        grid.insert(base.point, 0.0);
+        // The layers before the current one: d − 2 (evicted next) and d − 1.
+        let mut older: Vec<DVec3> = Vec::new();
+        let mut previous: Vec<DVec3> = Vec::new();
+        let mut layer = vec![(base, u32::MAX)];
+        let mut depth = 0usize;
+        let mut total = 0u128;
+        loop {
+            if let Bound::Tiles(limit) = self.bound
+                && total + layer.len() as u128 > limit as u128
+            {
+                break;
+            }
+            total += layer.len() as u128;
+            if total.saturating_mul(bytes_per_tile) > MEMORY_BUDGET && self.keep
+                || (layer.len() as u128).saturating_mul(3 * bytes_per_tile) > MEMORY_BUDGET
+            {
+                return Err(CoverError::TooLarge {
+                    tiles: total,
+                    bytes: total.saturating_mul(bytes_per_tile),
+                    budget: MEMORY_BUDGET,
+                });
+            }
+            self.record(&layer, depth);
+            if layer.is_empty() || matches!(self.bound, Bound::Depth(d) if depth >= d) {
+                break;
+            }
+            for p in older.drain(..) {
+                grid.remove(p);
+            }
+            let next = self.expand(&layer, &mut grid, depth + 1)?;
+            older = std::mem::take(&mut previous);
+            previous = layer.iter().map(|(node, _)| node.point).collect();
+            layer = next;
+            depth += 1;
+        }
+        while self.counts.last() == Some(&0) {
+            self.counts.pop();
+        }
+        Ok(())
+    }
+
+    /// The error bounds of the child P·N (generator `i`) of `parent`, and of its image of O.
+    ///
+    /// In the spectral norm: ‖P̃Ñ − PN‖ ≤ ‖P̃ − P‖‖N‖ + ‖P‖‖Ñ − N‖ + 3γ₃‖P‖‖N‖ (first order in
+    /// the errors; the last term bounds the rounding of the product, Higham, *Accuracy and
+    /// Stability of Numerical Algorithms*, §3.5), with ‖Ñ − N‖ ≤ e_gen‖N‖. On the sphere every
+    /// norm is 1, so the bound grows linearly with the depth; in H² it grows with the product of
+    /// the generators' norms. In E² the translation column is followed apart from the linear
+    /// part, whose norm is 1: both bounds then grow linearly.
+    fn propagate(&self, parent: &Node, p_norm: f64, i: usize) -> (f64, f64, f64) {
+        let n_norm = self.generator_norms[i];
+        let safety = 1.0 + 1e-10;
+        if self.space.kappa() != 0.0 {
+            let error = (parent.error * n_norm
+                + p_norm * self.defect * n_norm
+                + 3.0 * GAMMA3 * p_norm * n_norm)
+                * safety;
+            let point_error = (error + 3.0 * GAMMA3 * p_norm * n_norm) * self.centre_length;
+            return (error, 0.0, point_error);
+        }
+        // E²: M = [A t; 0 1]. (PN)'s linear part is A_P A_N, its translation A_P t_N + t_P.
+        let shift_n = self.generators[i].z_axis.truncate().length();
+        let shift_p = parent.matrix.z_axis.truncate().length();
+        let error = (parent.error * n_norm
+            + p_norm * self.defect * n_norm
+            + 2.0 * GAMMA3 * p_norm * n_norm)
+            * safety;
+        let shift = (parent.error * shift_n
+            + parent.shift
+            + p_norm * self.defect * (1.0 + shift_n)
+            + 3.0 * GAMMA3 * (p_norm * shift_n + shift_p))
+            * safety;
+        let o = self.centre.truncate().length();
+        let point_error = error * o + shift + 3.0 * GAMMA3 * (p_norm * (o + shift_n) + shift_p);
+        (error, shift, point_error)
+    }
+
+    fn record(&mut self, layer: &[(Node, u32)], depth: usize) {
+        let mut count = 0;
+        // Distances from O grow with the chord ⟨p − O, p − O⟩: compare chords, and take one
+        // distance per layer for the farthest tile.
+        let chord = |p: DVec3| {
+            let d = p - self.centre;
+            self.space.point_dot(d, d)
+        };
+        let limit = match self.bound {
+            Bound::Radius(r) => {
+                let half = self.space.sin(r / 2.0);
+                let within = 4.0 * half * half;
+                if self.space.kappa() > 0.0 && r >= std::f64::consts::PI {
+                    f64::INFINITY
+                } else {
+                    within * (1.0 + 1e-12)
+                }
+            }
+            _ => f64::INFINITY,
+        };
+        let mut widest = 0.0f64;
+        let mut farthest = None;
+        for (node, edge) in layer {
+            let c = chord(node.point);
+            if c > widest || farthest.is_none() {
+                widest = c;
+                farthest = Some(node.point);
+            }
+            if c > limit {
+                continue;
+            }
+            count += 1;
+            if self.keep {
+                self.kept.push(GroupTile {
+                    matrix: node.matrix,
+                    depth: depth as u32,
+                    reflected: node.matrix.determinant() < 0.0,
+                    edge: (*edge != u32::MAX).then_some(*edge),
+                });
+            }
+        }
+        if let Some(p) = farthest {
+            self.farthest = self.farthest.max(self.distance(p));
+        }
+        self.counts.push(count);
+    }
+
+    /// The next layer: every neighbour of the layer's tiles that is in none of the last two
+    /// layers (in `grid`) nor already in the new one, which it adds to `grid`.
+    fn expand(
+        &self,
+        layer: &[(Node, u32)],
+        grid: &mut Grid,
+        depth: usize,
+    ) -> Result<Vec<(Node, u32)>, CoverError> {
+        let mut next: Vec<(Node, u32)> = Vec::with_capacity(layer.len() * 2);
+        // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
+        // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
+        let limit = self.separation / 16.0;
+        let bounded = self.reach.is_finite();
+        for (parent, _) in layer {
+            if bounded && self.distance(parent.point) > self.reach {
+                continue;
+            }
+            let p_norm = spectral(self.space, &parent.matrix);
+            for (i, n) in self.generators.iter().enumerate() {
+                // The image of O first (N·O is precomputed); the matrix only for a new tile.
+                let point = parent.matrix * self.images[i];
+                let (error, shift, point_error) = self.propagate(parent, p_norm, i);
+                if point_error.is_nan() || point_error >= limit || !point.is_finite() {
+                    return Err(CoverError::Precision { depth });
+                }
+                // Two images of one tile lie within the sum of their error bounds.
+                if grid.contains(point, point_error, self.separation) {
+                    continue;
+                }
+                grid.insert(point, point_error);
+                next.push((
+                    Node {
+                        matrix: parent.matrix * *n,
+                        point,
+                        error,
+                        shift,
+                    },
+                    self.facing[i],
+                ));
+            }
+        }
+        let _ = self.polygon;
+        Ok(next)
+    }
+}
+
+/// The generators' measured defect: pairings against their partners' inverses, mirrors against
+/// involutions, and the vertex cycles' angle sums against Poincaré's values (an angle error θ
+/// makes a cycle's relation miss the identity by a rotation of θ per turn, k turns for order k).
+fn defect(polygon: &FundamentalPolygon, generators: &[DMat3]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (i, e) in polygon.edges.iter().enumerate() {
+        let partner = match e.kind {
+            EdgeKind::Mirror => i,
+            EdgeKind::Paired { partner } => partner,
+        };
+        let product = generators[i] * generators[partner];
+        let off = norm(&(product - DMat3::IDENTITY));
+        let scale = norm(&generators[i]) * norm(&generators[partner]);
+        worst = worst.max(off / scale.max(1.0));
+    }
+    for c in &polygon.cycles {
+        let k = c.order.to_f64();
+        let turns = if k.is_finite() { k } else { 1.0 };
+        worst = worst.max((c.angle_sum - c.expected_angle_sum()).abs() * turns);
+    }
+    16.0 * worst.max(64.0 * U)
+}
+
+/// Images of the centre in cells of a grid in ambient ℝ³. Cells are σ/2 wide, so their
+/// diagonal (√3·σ/2) is shorter than the separation σ of distinct images: a cell holds at most
+/// one image.
+struct Grid {
+    cell: f64,
+    cells: FxHashMap<(i64, i64, i64), DVec3>,
+    /// The largest error bound of a stored image.
+    error: f64,
+}
+
+impl Grid {
+    fn new(cell: f64) -> Self {
+        Grid {
+            cell,
+            cells: FxHashMap::default(),
+            error: 0.0,
+        }
+    }
+
+    fn key(&self, p: DVec3) -> (i64, i64, i64) {
+        let q = (p / self.cell).floor();
+        (q.x as i64, q.y as i64, q.z as i64)
+    }
+
+    fn insert(&mut self, p: DVec3, error: f64) {
+        self.error = self.error.max(error);
+        self.cells.insert(self.key(p), p);
+    }
+
+    fn remove(&mut self, p: DVec3) {
+        let key = self.key(p);
+        if self.cells.get(&key) == Some(&p) {
+            self.cells.remove(&key);
+        }
+    }
+
+    /// Whether an image within half the separation of `p` (whose error is at most `error`) is
+    /// stored; the neighbouring cells are searched only when `p` lies within the two error
+    /// bounds of its own cell's faces.
+    fn contains(&self, p: DVec3, error: f64, separation: f64) -> bool {
+        let (x, y, z) = self.key(p);
+        let half = separation / 2.0;
+        let near = |q: Option<&DVec3>| q.is_some_and(|q| (*q - p).length() < half);
+        if near(self.cells.get(&(x, y, z))) {
+            return true;
+        }
+        let local = p / self.cell - DVec3::new(x as f64, y as f64, z as f64);
+        let s = 2.0 * (error + self.error) / self.cell;
+        if local.min_element() >= s && local.max_element() <= 1.0 - s {
+            return false;
+        }
+        let range = |f: f64| {
+            let lo = if f < s { -1 } else { 0 };
+            let hi = if f > 1.0 - s { 1 } else { 0 };
+            lo..=hi
+        };
+        for dx in range(local.x) {
+            for dy in range(local.y) {
+                for dz in range(local.z) {
+                    if (dx, dy, dz) != (0, 0, 0) && near(self.cells.get(&(x + dx, y + dy, z + dz)))
+                    {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::Shape;
+
+    fn polygon(s: &str) -> FundamentalPolygon {
+        FundamentalPolygon::new(&s.parse().unwrap(), &LayoutOptions::default()).unwrap()
+    }
+
+    fn geometric(s: &str, bound: Bound) -> GroupCover {
+        GroupCover::enumerate_polygon(polygon(s), bound, true)
+            .unwrap_or_else(|e| panic!("{s}: {e}"))
+    }
+
+    #[test]
+    fn spherical_groups_have_order_two_over_chi() {
+        let mut symbols: Vec<String> = ["532", "432", "332", "3*2", "×", "*532", "*432", "*"]
+            .map(String::from)
+            .to_vec();
+        for n in 2..=7 {
+            symbols.extend([
+                format!("22({n})"),
+                format!("({n})({n})"),
+                format!("2*({n})"),
+                format!("({n})*"),
+                format!("({n})×"),
+                format!("*22({n})"),
+            ]);
+        }
+        for s in symbols {
+            let symbol: OrbifoldSymbol = s.parse().unwrap();
+            let order = symbol.group_order().unwrap() as usize;
+            let cover = geometric(&s, Bound::All);
+            assert_eq!(cover.tiles.len(), order, "{s}");
+            let via = GroupCover::enumerate(&symbol, Bound::All, false).unwrap();
+            assert_eq!(
+                via.counts_by_depth.iter().sum::<u64>() as usize,
+                order,
+                "{s}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_geometric_search_agrees_with_the_combinatorial_cover() {
+        for (s, depth) in [
+            ("*2222222", 5),
+            ("*237", 18),
+            ("*2323", 7),
+            ("*442", 12),
+            ("*∞∞∞", 7),
+        ] {
+            let ours = geometric(s, Bound::Depth(depth));
+            let theirs = Cover::enumerate(&s.parse().unwrap(), Bound::Depth(depth), false).unwrap();
+            assert_eq!(ours.counts_by_depth, theirs.counts_by_depth, "{s}");
+        }
+    }
+
+    /// Every point of a disc lies in exactly one tile (in at least one closed tile, in at most
+    /// one open one), and no two tiles are the same.
+    fn check_covers_disc(p: FundamentalPolygon, disc: f64) {
+        let space = p.space();
+        let name = p.symbol.to_string();
+        let reach = p
+            .vertices
+            .iter()
+            .map(|v| space.ambient_distance(p.centre_ambient(), v.ambient))
+            .fold(0.0, f64::max);
+        let offset = space.ambient_distance(p.centre_ambient(), DVec3::Z);
+        let cover =
+            GroupCover::enumerate_polygon(p.clone(), Bound::Radius(disc + reach + offset), true)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let inverses: Vec<DMat3> = cover
+            .tiles
+            .iter()
+            .map(|t| {
+                crate::isometry::Isometry::from_matrix(space, t.matrix)
+                    .inverse()
+                    .matrix()
+            })
+            .collect();
+        let o = p.centre_ambient();
+        for (i, a) in cover.tiles.iter().enumerate() {
+            for b in &cover.tiles[..i] {
+                let d = space.ambient_distance(a.matrix * o, b.matrix * o);
+                assert!(d > p.clearance(), "{name}: two tiles at distance {d}");
+            }
+        }
+        let mut seed = 0x9e3779b97f4a7c15u64;
+        let mut random = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..300 {
+            let (r, t) = (disc * random().sqrt(), std::f64::consts::TAU * random());
+            let x = crate::isometry::Isometry::translation_by(
+                space,
+                r,
+                num_complex::Complex64::from_polar(1.0, t),
+            )
+            .apply_ambient(DVec3::Z);
+            let closed = inverses
+                .iter()
+                .filter(|m| p.contains_ambient(**m * x, 1e-9))
+                .count();
+            let open = inverses
+                .iter()
+                .filter(|m| p.contains_ambient(**m * x, -1e-9))
+                .count();
+            assert!(
+                closed >= 1 && open <= 1,
+                "{name}: {closed} closed, {open} open"
+            );
+        }
+    }
+
+    #[test]
+    fn random_points_lie_in_exactly_one_tile() {
+        for s in [
+            "632", "2222", "22×", "××", "o", "*×", "2*22", "4*2", "22*", "**",
+        ] {
+            check_covers_disc(polygon(s), 3.0);
+        }
+        for s in ["532", "22(5)", "3*2", "(5)×", "2*(4)"] {
+            check_covers_disc(polygon(s), 3.1);
+        }
+        for s in [
+            "2223", "237", "4*3", "oo", "××", "*2×", "3333", "2*34", "***",
+        ] {
+            let p = polygon(s);
+            if p.geometry == Geometry::Hyperbolic {
+                check_covers_disc(p, 2.0);
+            }
+        }
+    }
+
+    #[test]
+    fn shapes_and_placements_cover_too() {
+        let p = FundamentalPolygon::new(
+            &"22×".parse().unwrap(),
+            &LayoutOptions {
+                shape: Shape::Parameters(vec![1.3]),
+                at: num_complex::Complex64::new(0.2, 0.1),
+                angle: 0.4,
+            },
+        )
+        .unwrap();
+        check_covers_disc(p, 3.0);
+    }
+
+    /// The rotation group `pqr` in the doubled shape of `*pqr`: each of its tiles is the union
+    /// of two tiles of the reflection group, g(T) and g·r₀(T).
+    #[test]
+    fn rotation_subgroup_tiles_are_pairs_of_reflection_tiles() {
+        for (s, radius) in [("237", 3.5), ("333", 5.0), ("245", 3.5), ("532", 4.0)] {
+            let rotations = geometric(s, Bound::Radius(radius));
+            let kal = polygon(&format!("*{s}"));
+            let reflections = GroupCover::enumerate(
+                &format!("*{s}").parse().unwrap(),
+                Bound::Radius(radius + 4.0),
+                true,
+            )
+            .unwrap();
+            let r0 = kal.edges[0].neighbour;
+            let found = |m: DMat3| {
+                let scale = norm(&m);
+                reflections
+                    .tiles
+                    .iter()
+                    .any(|t| t.matrix.abs_diff_eq(m, 1e-9 * scale))
+            };
+            for t in &rotations.tiles {
+                assert!(!t.reflected, "{s}");
+                assert!(
+                    found(t.matrix) && found(t.matrix * r0),
+                    "{s}: a tile is not two reflection tiles"
+                );
+            }
+            let within = |c: &GroupCover, r: f64| {
+                let o = c.polygon.centre_ambient();
+                let space = c.polygon.space();
+                c.tiles
+                    .iter()
+                    .filter(|t| space.ambient_distance(o, t.matrix * o) <= r)
+                    .count()
+            };
+            if s != "532" {
+                // Reflection tiles: the same elements g and g·r₀; counting within a radius by the
+                // triangle's centre gives about twice as many.
+                let (a, b) = (
+                    within(&rotations, radius - 1.0),
+                    within(&reflections, radius - 1.0),
+                );
+                assert!(
+                    b as f64 > 1.6 * a as f64 && (b as f64) < 2.4 * a as f64,
+                    "{s}: {a} vs {b}"
+                );
+            } else {
+                assert_eq!(rotations.tiles.len() * 2, reflections.tiles.len(), "{s}");
+            }
+        }
+    }
+
+    #[test]
+    fn imprecise_generators_are_refused_rather_than_guessed() {
+        // A pairing perturbed by 10⁻⁴ no longer inverts its partner's: the measured defect makes
+        // the error bound exceed the separation of tiles within a few layers.
+        let mut p = polygon("2223");
+        p.edges[0].neighbour *= 1.0 + 1e-4;
+        match GroupCover::enumerate_polygon(p, Bound::Depth(60), false) {
+            Err(CoverError::Precision { depth }) => assert!(depth < 60),
+            other => panic!("{:?}", other.map(|c| c.counts_by_depth)),
+        }
+        assert!(matches!(
+            GroupCover::enumerate(&"2223".parse().unwrap(), Bound::All, false),
+            Err(CoverError::Unbounded(_))
+        ));
+    }
+
+    #[test]
+    fn first_layer_is_the_distinct_generators() {
+        for s in ["632", "22×", "oo", "2*22"] {
+            let c = geometric(s, Bound::Depth(1));
+            let p = polygon(s);
+            let mut distinct: Vec<DMat3> = Vec::new();
+            for e in &p.edges {
+                if !distinct.iter().any(|m| m.abs_diff_eq(e.neighbour, 1e-9)) {
+                    distinct.push(e.neighbour);
+                }
+            }
+            assert_eq!(c.counts_by_depth, vec![1, distinct.len() as u64], "{s}");
+            assert!(
+                c.tiles[1..]
+                    .iter()
+                    .all(|t| t.depth == 1 && t.edge.is_some())
+            );
+        }
+    }
+}

@@ -1,0 +1,344 @@
+//! Textbook fundamental domains of the small families (Conway, Burgiel, Goodman-Strauss, *The
+//! Symmetries of Things*, 2008, chapters 4 and 6): lunes for `NN` and `N×`, the doubled triangle
+//! for three cones, the isosceles triangle for `k*m`, the folded triangle for `2*mn`. Each is
+//! exact where the star would be degenerate (two sectors of width π on the sphere) and has the
+//! fewest edges.
+
+use glam::DVec3;
+
+use super::{Construction, Draft, Glue};
+use crate::conway::OrbifoldSymbol;
+use crate::cover::reflection;
+use crate::euler::Geometry;
+use crate::layout::{LayoutError, incircle};
+use crate::order::Order;
+use crate::space::Space;
+
+/// The textbook draft of `symbol`, or `None` when its family is left to the star.
+pub(crate) fn draft(
+    symbol: &OrbifoldSymbol,
+    space: Space,
+    parameters: Option<&[f64]>,
+) -> Result<Option<Draft>, LayoutError> {
+    let geometry = space.geometry();
+    let all_orders = symbol
+        .cones()
+        .iter()
+        .chain(symbol.boundaries().iter().flatten());
+    if geometry == Geometry::Euclidean && all_orders.clone().any(Order::is_infinite) {
+        return Err(LayoutError::Unsupported(format!(
+            "{symbol} is a frieze group (a Euclidean strip with a point at infinity); only compact \
+             Euclidean orbifolds, the 17 wallpaper groups, are built"
+        )));
+    }
+    let (handles, crosscaps) = (symbol.handles(), symbol.crosscaps());
+    let cones = symbol.cones();
+    let boundaries = symbol.boundaries();
+    if handles == 1 && cones.is_empty() && boundaries.is_empty() && crosscaps == 0 {
+        // `o`, the torus: Euclidean, so a parallelogram of any shape.
+        return parallelogram(space, parameters).map(Some);
+    }
+    if handles > 0 {
+        return Ok(None);
+    }
+    let draft = match (cones, boundaries, crosscaps) {
+        ([], [], 0) => {
+            return Err(LayoutError::Unsupported(
+                "1 is the sphere itself: the trivial group's fundamental domain is the whole \
+                 sphere, with no edge to pair"
+                    .into(),
+            ));
+        }
+        ([a, b], [], 0) if a == b => lune(*a, false, parameters)?,
+        ([], [], 1) => lune(Order::integer(1), true, parameters)?,
+        ([a], [], 1) => lune(*a, true, parameters)?,
+        ([p, q, r], [], 0) => doubled_triangle(space, [*p, *q, *r], parameters)?,
+        ([k], [corners], 0) if corners.len() <= 1 && k.as_integer() != Some(2) => {
+            let m = corners.first().copied().unwrap_or(Order::integer(1));
+            if k.is_infinite() && m.is_infinite() {
+                return Ok(None);
+            }
+            cone_and_mirror(space, *k, m, parameters)?
+        }
+        ([k], [corners], 0) if k.as_integer() == Some(2) => match corners.as_slice() {
+            [] => folded_on_sphere(space, Order::integer(1), parameters)?,
+            [m] => folded_on_sphere(space, *m, parameters)?,
+            [m, n] if !n.is_infinite() => folded(space, *m, *n, parameters)?,
+            _ => return Ok(None),
+        },
+        _ => return Ok(None),
+    };
+    Ok(Some(draft))
+}
+
+/// Checks user parameters against a construction's defaults and open ranges.
+pub(crate) fn take_parameters(
+    given: Option<&[f64]>,
+    defaults: &[f64],
+    ranges: &[(f64, f64)],
+) -> Result<Vec<f64>, LayoutError> {
+    let Some(values) = given else {
+        return Ok(defaults.to_vec());
+    };
+    if values.len() != defaults.len() {
+        return Err(LayoutError::ParameterCount {
+            expected: defaults.len(),
+            given: values.len(),
+        });
+    }
+    for (index, (&value, &(low, high))) in values.iter().zip(ranges).enumerate() {
+        if !value.is_finite() {
+            return Err(LayoutError::InvalidParameter { index, value });
+        }
+        if !(value > low && value < high) {
+            return Err(LayoutError::ParameterOutOfRange {
+                index,
+                value,
+                low,
+                high,
+            });
+        }
+    }
+    Ok(values.to_vec())
+}
+
+fn ambient(space: Space, z: num_complex::Complex64, ideal: bool) -> DVec3 {
+    if ideal {
+        DVec3::new(z.re, z.im, 1.0)
+    } else {
+        space.to_ambient(z)
+    }
+}
+
+/// The normalised sum of the corners: a point inside any convex polygon (in the gnomonic chart
+/// it is a positive combination of the corners).
+fn inner_point(space: Space, points: &[DVec3]) -> DVec3 {
+    space.normalize_point(points.iter().map(|p| *p / p.z.abs().max(1.0)).sum())
+}
+
+/// `NN` (pairing by the rotation about the lune's corners, angle 2π/N) and `N×`, `×` (by the
+/// rotatory reflection that swaps them, angle π/N): the lune with corners ±1 of the model.
+fn lune(order: Order, crosscap: bool, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
+    take_parameters(parameters, &[], &[])?;
+    let angle = if crosscap {
+        order.corner_angle()
+    } else {
+        2.0 * order.corner_angle()
+    };
+    let (s, c) = (angle / 2.0).sin_cos();
+    Ok(Draft {
+        points: vec![DVec3::X, -DVec3::X],
+        ideal: vec![false, false],
+        orders: vec![order, order],
+        walls: Some(vec![DVec3::new(0.0, -c, s), DVec3::new(0.0, c, s)]),
+        neighbours: None,
+        glue: vec![
+            Glue::Paired {
+                partner: 1,
+                reverses: crosscap,
+            },
+            Glue::Paired {
+                partner: 0,
+                reverses: crosscap,
+            },
+        ],
+        centre: DVec3::Z,
+        parameters: vec![],
+        meanings: vec![],
+        construction: Construction::Lune,
+    })
+}
+
+/// `o` (p1): the parallelogram 0, a, a + b, b with |a| = 1 (model units) and b = ρ·e^{iθ}; the
+/// opposite sides are paired by the translations a and b. Both lattice parameters, ρ = |b|/|a|
+/// and θ, are free; every value is valid.
+fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
+    let values = take_parameters(
+        parameters,
+        &[1.0, 90.0],
+        &[(0.0, f64::INFINITY), (0.0, 180.0)],
+    )?;
+    let (ratio, theta) = (values[0], values[1].to_radians());
+    let corners = [
+        num_complex::Complex64::new(0.0, 0.0),
+        num_complex::Complex64::new(1.0, 0.0),
+        num_complex::Complex64::new(1.0 + ratio * theta.cos(), ratio * theta.sin()),
+        num_complex::Complex64::from_polar(ratio, theta),
+    ];
+    let points: Vec<DVec3> = corners.iter().map(|&z| space.to_ambient(z)).collect();
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: vec![false; 4],
+        orders: vec![Order::integer(1); 4],
+        walls: None,
+        neighbours: None,
+        glue: vec![paired(2), paired(3), paired(0), paired(1)],
+        parameters: values,
+        meanings: vec![
+            "the length of the second pair of sides divided by the first's (|b|/|a|); in (0, ∞), default 1".into(),
+            "the angle between the two pairs of sides, in degrees; in (0, 180), default 90 (a rectangle)".into(),
+        ],
+        construction: Construction::Parallelogram,
+    })
+}
+
+/// The triangle with these corner angles, built around its inscribed circle as `*pqr` is.
+fn triangle(space: Space, angles: [f64; 3], ideal: [bool; 3]) -> Result<[DVec3; 3], LayoutError> {
+    let raw = incircle::polygon(space, &angles, &ideal)?;
+    Ok([0, 1, 2].map(|i| ambient(space, raw.corners[i], ideal[i])))
+}
+
+/// Three cones `pqr`: the triangle P, Q, R of `*pqr` and its reflection R' across PQ; edges
+/// PR' and RP are paired by the rotation about P (angle 2π/p), R'Q and QR by the one about Q.
+fn doubled_triangle(
+    space: Space,
+    orders: [Order; 3],
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    take_parameters(parameters, &[], &[])?;
+    let [p, q, r] = triangle(
+        space,
+        orders.map(|k| k.corner_angle()),
+        orders.map(|k| k.is_infinite()),
+    )?;
+    let pq = super::geometry::wall_through(space, p, q, r);
+    let qr = super::geometry::wall_through(space, q, r, p);
+    let rp = super::geometry::wall_through(space, r, p, q);
+    let r2 = space.reflect(pq, r);
+    // The rotations about P and Q as products of the triangle's reflections: exact also when
+    // both ends of an edge are ideal.
+    let (m_pq, m_qr, m_rp) = (
+        reflection(space, pq),
+        reflection(space, qr),
+        reflection(space, rp),
+    );
+    let about_p = m_pq * m_rp;
+    let about_q = m_pq * m_qr;
+    let neighbours = vec![about_p, about_q, about_q.inverse(), about_p.inverse()];
+    let points = vec![p, r2, q, r];
+    let ideal = vec![
+        orders[0].is_infinite(),
+        orders[2].is_infinite(),
+        orders[1].is_infinite(),
+        orders[2].is_infinite(),
+    ];
+    Ok(Draft {
+        // The triangle's incentre, so that P, Q, R are exactly the corners of `*pqr`'s layout.
+        centre: DVec3::Z,
+        points,
+        ideal,
+        orders: vec![orders[0], orders[2], orders[1], orders[2]],
+        walls: None,
+        neighbours: Some(neighbours),
+        glue: vec![paired(3), paired(2), paired(1), paired(0)],
+        parameters: vec![],
+        meanings: vec![],
+        construction: Construction::DoubledTriangle,
+    })
+}
+
+fn paired(partner: usize) -> Glue {
+    Glue::Paired {
+        partner,
+        reverses: false,
+    }
+}
+
+/// `k*m` and `k*` (k ≥ 3): the isosceles triangle with apex 2π/k at the cone point and base
+/// angles π/2m; its legs are paired by the rotation about the apex, its base is a mirror, and
+/// the base corners form one corner cycle of angle π/m.
+fn cone_and_mirror(
+    space: Space,
+    k: Order,
+    m: Order,
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    take_parameters(parameters, &[], &[])?;
+    let base = m.corner_angle() / 2.0;
+    let ideal = [k.is_infinite(), m.is_infinite(), m.is_infinite()];
+    let points = triangle(space, [2.0 * k.corner_angle(), base, base], ideal)?.to_vec();
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: ideal.to_vec(),
+        orders: vec![k, m, m],
+        walls: None,
+        neighbours: None,
+        glue: vec![paired(2), Glue::Mirror, paired(0)],
+        parameters: vec![],
+        meanings: vec![],
+        construction: Construction::ConeAndMirror,
+    })
+}
+
+/// The glue of a folded triangle A, B, M, C: mirrors AB and CA, and BM, MC paired by the
+/// half-turn about M.
+fn folded_glue() -> Vec<Glue> {
+    vec![Glue::Mirror, paired(2), paired(1), Glue::Mirror]
+}
+
+/// `2*m` and `2*` on the sphere: the triangle with the corner π/m at the pole A and two right
+/// angles B, C on the equator; the equator arc BC is folded about its midpoint M.
+fn folded_on_sphere(
+    space: Space,
+    m: Order,
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    take_parameters(parameters, &[], &[])?;
+    let a = m.corner_angle();
+    let on_equator = |t: f64| DVec3::new(t.cos(), t.sin(), 0.0);
+    let points = vec![
+        DVec3::Z,
+        on_equator(0.0),
+        on_equator(a / 2.0),
+        on_equator(a),
+    ];
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: vec![false; 4],
+        orders: vec![m, Order::integer(1), Order::integer(2), Order::integer(1)],
+        walls: None,
+        neighbours: None,
+        glue: folded_glue(),
+        parameters: vec![],
+        meanings: vec![],
+        construction: Construction::FoldedTriangle,
+    })
+}
+
+/// `2*mn` (E² and H²): the triangle with corners π/m at A, β at B and γ = π/n − β at C, mirrors
+/// AB and CA, BC folded about its midpoint M. The free parameter is β/(π/n).
+fn folded(
+    space: Space,
+    m: Order,
+    n: Order,
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    let values = take_parameters(parameters, &[0.5], &[(0.0, 1.0)])?;
+    let share = n.corner_angle();
+    let (beta, gamma) = (values[0] * share, (1.0 - values[0]) * share);
+    let [a, b, c] = triangle(
+        space,
+        [m.corner_angle(), beta, gamma],
+        [m.is_infinite(), false, false],
+    )?;
+    let mid = space.interpolate(b, c, 0.5);
+    let points = vec![a, b, mid, c];
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: vec![m.is_infinite(), false, false, false],
+        orders: vec![m, n, Order::integer(2), n],
+        walls: None,
+        neighbours: None,
+        glue: folded_glue(),
+        parameters: values,
+        meanings: vec![format!(
+            "the angle at B as a fraction of π/{n}, the angle that B and C share (the corner of \
+             order {n}); in (0, 1), default 0.5 (an isosceles triangle)"
+        )],
+        construction: Construction::FoldedTriangle,
+    })
+}
