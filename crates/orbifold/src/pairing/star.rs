@@ -23,12 +23,12 @@
 //! construction; the copies of v form one cycle, whose angle sum is 2π when R is right: in E² for
 //! every R (R = 1 sets the scale), in H² for one R, found by bisection (the sum falls as R grows).
 
-use std::f64::consts::{FRAC_1_SQRT_2, PI, SQRT_2, TAU};
+use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, PI, SQRT_2, TAU};
 
 use glam::DVec3;
 use num_complex::Complex64;
 
-use super::geometry::{bisect, corner_angle, foot, ideal_at, polar, toward};
+use super::geometry::{bisect, corner_angle, foot, ideal_at, polar};
 use super::textbook::take_parameters;
 use super::{Construction, Draft, Glue};
 use crate::conway::OrbifoldSymbol;
@@ -129,12 +129,7 @@ fn plan(symbol: &OrbifoldSymbol) -> Plan {
 #[derive(Clone, Debug)]
 struct Shape {
     weights: Vec<f64>,
-    /// A base weight per group, the construction's own (see [`BASES`]); 1 but for the sectors
-    /// of boundaries with corners.
-    bases: Vec<f64>,
     cuts: Vec<f64>,
-    /// The cap of each boundary with corners, which does not depend on R.
-    caps: Vec<Option<Cap>>,
 }
 
 /// The star's draft for `symbol` (E² and H²).
@@ -149,6 +144,9 @@ pub(crate) fn draft(
         )));
     }
     let plan = plan(symbol);
+    if symbol.boundaries().iter().any(|c| !c.is_empty()) {
+        return balanced_draft(space, &plan, parameters);
+    }
     let boundaries = symbol.boundaries().len();
     let widths = if plan.sectors.len() >= 3 {
         plan.groups.len() - 1
@@ -156,35 +154,14 @@ pub(crate) fn draft(
         0
     };
     let supported = (boundaries + widths).min(symbol.free_parameters());
-    // A boundary with corners in H² takes its cut in (0, 1) (default ½); the others in (0, ∞)
-    // (default 1).
-    let cut_ranges: Vec<(f64, f64)> = symbol
-        .boundaries()
-        .iter()
-        .map(|c| {
-            if c.is_empty() {
-                (0.0, CUT_MAX)
-            } else {
-                (0.0, 1.0)
-            }
-        })
-        .collect();
-    let cut_defaults: Vec<f64> = cut_ranges
-        .iter()
-        .map(|&(_, high)| if high == 1.0 { 0.5 } else { 1.0 })
-        .collect();
-    let mut ranges = cut_ranges;
+    let mut ranges = vec![(0.0, CUT_MAX); boundaries];
     ranges.extend(vec![WIDTH_RANGE; widths]);
     ranges.truncate(supported);
-    let mut defaults = cut_defaults.clone();
-    defaults.extend(vec![1.0; widths]);
-    defaults.truncate(supported);
+    let defaults = vec![1.0; supported];
     let values = take_parameters(parameters, &defaults, &ranges)?;
     let mut shape = Shape {
         weights: vec![1.0; plan.groups.len()],
-        bases: vec![1.0; plan.groups.len()],
-        cuts: cut_defaults,
-        caps: vec![None; boundaries],
+        cuts: vec![1.0; boundaries],
     };
     for (i, &v) in values.iter().enumerate() {
         if i < boundaries {
@@ -193,61 +170,7 @@ pub(crate) fn draft(
             shape.weights[i - boundaries + 1] = v;
         }
     }
-    // A boundary with corners closes up only for some cuts and widths (docs/orbifolds.md): its
-    // sector's base width is searched, and without given parameters its cut too.
-    let with_corners: Vec<bool> = symbol.boundaries().iter().map(|c| !c.is_empty()).collect();
-    let boundary_groups: Vec<usize> = plan
-        .sectors
-        .iter()
-        .filter(|s| matches!(s.kind, Kind::Boundary(_)))
-        .map(|s| s.group)
-        .collect();
-    let any = with_corners.iter().any(|&c| c);
-    let cuts: &[f64] = if any && parameters.is_none() {
-        &CUT_CANDIDATES
-    } else {
-        &[f64::NAN]
-    };
-    let bases: &[f64] = if any { &BASES } else { &[1.0] };
-    let mut last = None;
-    let mut solved = None;
-    'search: for &base in bases {
-        for &candidate in cuts {
-            let mut trial = shape.clone();
-            for (b, &corners) in with_corners.iter().enumerate() {
-                if !corners {
-                    continue;
-                }
-                trial.bases[boundary_groups[b]] = base;
-                if candidate.is_finite() {
-                    trial.cuts[b] = candidate;
-                }
-                match cap(space, &symbol.boundaries()[b], trial.cuts[b]) {
-                    Ok(c) => trial.caps[b] = Some(c),
-                    Err(e) => {
-                        last = Some(e);
-                        continue;
-                    }
-                }
-            }
-            match close(space, &plan, &trial) {
-                Ok(star) => {
-                    solved = Some((star, trial));
-                    break 'search;
-                }
-                Err(e) => last = Some(e),
-            }
-        }
-    }
-    let Some((star, shape)) = solved else {
-        return Err(last.unwrap_or_else(|| LayoutError::Unrealisable("no star".into())));
-    };
-    let mut values = values;
-    for (i, v) in values.iter_mut().enumerate() {
-        if i < boundaries {
-            *v = shape.cuts[i];
-        }
-    }
+    let star = close(space, &plan, &shape)?;
     let meanings = meanings(symbol, &plan, supported);
     Ok(Draft {
         points: star.points,
@@ -264,25 +187,12 @@ pub(crate) fn draft(
 }
 
 fn meanings(symbol: &OrbifoldSymbol, plan: &Plan, supported: usize) -> Vec<String> {
-    let mut out: Vec<String> = symbol
-        .boundaries()
-        .iter()
-        .enumerate()
-        .map(|(i, corners)| {
-            if corners.is_empty() {
-                format!(
-                    "mirror boundary {}: the length of the cut edge d from the circle of v to the \
-                     mirror, in units of the distance from v to the sector's axis; in (0, 2), default 1",
-                    i + 1
-                )
-            } else {
-                format!(
-                    "mirror boundary {}: where the cut edge meets the first mirror, as a fraction \
-                     of the way from the foot of the perpendicular from the centre to the first \
-                     corner (or of the shorter such span at the last corner); in (0, 1), default 0.5",
-                    i + 1
-                )
-            }
+    let mut out: Vec<String> = (1..=symbol.boundaries().len())
+        .map(|i| {
+            format!(
+                "mirror boundary {i}: the length of the cut edge d from the circle of v to the \
+                 mirror, in units of the distance from v to the sector's axis; in (0, 2), default 1"
+            )
         })
         .collect();
     out.extend(plan.groups.iter().skip(1).map(|g| {
@@ -307,12 +217,6 @@ fn close(space: Space, plan: &Plan, shape: &Shape) -> Result<Star, LayoutError> 
         ))
     }
 }
-
-/// The base widths tried, in turn, for the sectors of boundaries with corners.
-const BASES: [f64; 6] = [1.0, 0.5, 2.0, 0.25, 4.0, 0.1];
-
-/// The cuts tried, in turn, for boundaries with corners when no parameters are given.
-const CUT_CANDIDATES: [f64; 9] = [0.5, 0.7, 0.9, 0.95, 0.98, 0.3, 0.1, 0.99, 0.995];
 
 /// Whether every copy of v has an interior angle below π.
 fn convex_at_copies(space: Space, star: &Star) -> bool {
@@ -339,7 +243,7 @@ struct Star {
 
 /// The sectors' widths: their groups' weights, scaled to add up to 2π.
 fn widths(plan: &Plan, shape: &Shape) -> Vec<f64> {
-    let weight = |g: usize| shape.bases[g] * shape.weights[g];
+    let weight = |g: usize| shape.weights[g];
     let total: f64 = plan.sectors.iter().map(|s| weight(s.group)).sum();
     plan.sectors
         .iter()
@@ -358,7 +262,7 @@ fn assemble(space: Space, plan: &Plan, shape: &Shape, r: f64) -> Result<Star, La
     };
     let mut first_edge = Vec::new();
     let mut bearing = 0.0;
-    let mut cut = 0;
+    let mut boundary = 0;
     for (sector, &delta) in plan.sectors.iter().zip(&widths) {
         let e = star.points.len();
         first_edge.push(e);
@@ -373,10 +277,9 @@ fn assemble(space: Space, plan: &Plan, shape: &Shape, r: f64) -> Result<Star, La
                 let (p, ideal) = cone_apex(space, r, delta, *k)?;
                 vec![(p, ideal, *k)]
             }
-            Kind::Boundary(corners) => {
-                cut += 1;
-                let cap = shape.caps[cut - 1].as_ref();
-                boundary_chain(space, r, delta, corners, shape.cuts[cut - 1], cap)?
+            Kind::Boundary(_) => {
+                boundary += 1;
+                boundary_chain(space, r, delta, shape.cuts[boundary - 1])?
             }
         };
         let turn = Isometry::rotation(space, bearing + delta / 2.0);
@@ -489,38 +392,20 @@ fn axis_offset(space: Space, r: f64, delta: f64) -> f64 {
     space.asin(space.sin(r) * (delta / 2.0).sin())
 }
 
-/// The points P₀ … P_{n+1} of a boundary sector (local frame: the axis is the positive real
-/// axis), each with its ideal flag and its cycle's order.
+/// The points P₀, P₁ of a boundary sector without corners (local frame: the axis is the positive
+/// real axis), each with its ideal flag and its cycle's order.
 fn boundary_chain(
     space: Space,
     r: f64,
     delta: f64,
-    corners: &[Order],
     cut: f64,
-    cap: Option<&Cap>,
 ) -> Result<Vec<(DVec3, bool, Order)>, LayoutError> {
     let below = polar(space, r, -delta / 2.0);
     let offset = axis_offset(space, r, delta);
     let one = Order::integer(1);
-    let ends = |p: DVec3| DVec3::new(p.x, -p.y, p.z);
-    if corners.is_empty() {
-        let p0 = mirror_foot(space, r, delta, below, cut * offset)?;
-        return Ok(vec![(p0, false, one), (ends(p0), false, one)]);
-    }
-    let cap = cap.ok_or_else(|| LayoutError::Unrealisable("a boundary's cap is missing".into()))?;
-    let placed = place_cap(space, cap, below)?;
-    Ok(placed
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            let order = if i == 0 || i + 1 == placed.len() {
-                one
-            } else {
-                corners[i - 1]
-            };
-            (p, cap.ideal[i], order)
-        })
-        .collect())
+    let p0 = mirror_foot(space, r, delta, below, cut * offset)?;
+    let p1 = DVec3::new(p0.x, -p0.y, p0.z);
+    Ok(vec![(p0, false, one), (p1, false, one)])
 }
 
 /// n = 0: the foot P₀ on the mirror perpendicular to the axis at the distance that makes the cut
@@ -549,109 +434,110 @@ fn mirror_foot(
     Ok(foot(space, wall(t), below))
 }
 
-/// A cap: the polygon of a boundary's corners, centred at the origin.
-#[derive(Clone, Debug)]
-struct Cap {
-    /// Corners P₀ … P_{n+1}, ambient (null directions for ideal ones).
-    points: Vec<DVec3>,
-    ideal: Vec<bool>,
-    /// The bearing of the chord's nearest point from the centre, and the inradius.
-    chord_bearing: f64,
-    inradius: f64,
+/// The balanced star of a symbol with a mirror boundary that has corners: the polygon of the
+/// star's combinatorics (copies of v, cone points, P₀, corners, P_{n+1}) with the cycles' angles
+/// and an inscribed circle, which has no free parameter.
+fn balanced_draft(
+    space: Space,
+    plan: &Plan,
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    let values = take_parameters(parameters, &[], &[])?;
+    let star = balanced(space, plan)?;
+    Ok(Draft {
+        points: star.points,
+        ideal: star.ideal,
+        orders: star.orders,
+        walls: None,
+        neighbours: None,
+        glue: star.glue,
+        centre: DVec3::Z,
+        parameters: values,
+        meanings: Vec::new(),
+        construction: Construction::Star,
+    })
 }
 
-fn build_cap(space: Space, corners: &[Order], base: f64) -> Result<Cap, LayoutError> {
-    let mut angles = vec![base];
-    angles.extend(corners.iter().map(Order::corner_angle));
-    angles.push(base);
-    let mut ideal = vec![false];
-    ideal.extend(corners.iter().map(Order::is_infinite));
-    ideal.push(false);
+/// A corner of the balanced star: its interior angle, whether it is ideal, its cycle's order.
+type Corner = (f64, bool, Order);
+
+/// The corners a sector adds after its copy of v.
+fn sector_corners(kind: &Kind) -> Vec<Corner> {
+    let one = Order::integer(1);
+    let corner = |k: &Order| (k.corner_angle(), k.is_infinite(), *k);
+    match kind {
+        Kind::Plain => vec![],
+        // The cone angle 2π/a is twice the corner angle π/a.
+        Kind::Cone(k) => vec![(2.0 * k.corner_angle(), k.is_infinite(), *k)],
+        Kind::Boundary(corners) => {
+            let mut out = vec![(FRAC_PI_2, false, one)];
+            out.extend(corners.iter().map(corner));
+            out.push((FRAC_PI_2, false, one));
+            out
+        }
+    }
+}
+
+/// The balanced star (docs/orbifolds.md): every copy of v gets the angle 2π/N (N sectors), a
+/// cone of order a its 2π/a, a corner of order b its π/b, and the ends P₀, P_{n+1} of a cut to a
+/// boundary π/2 each; the polygon with these angles and an inscribed circle exists in H² because
+/// its angles add up to less than (corners − 2)·π (their defect is the area 2π|χ| > 0).
+///
+/// Why the pairings are isometries: in a polygon with an inscribed circle the two tangent
+/// segments from a corner have the same length, which depends only on the corner's angle
+/// (tanh t = tanh r / tan(α/2)). A paired edge runs between a copy of v and a cone point or a
+/// cut's end, or between two copies of v, so every edge and its partner are the sums of tangent
+/// segments of equal angles: they have equal lengths. At an ideal cone point the two edges'
+/// tangency points lie on one horocycle about it, so the pairing is parabolic.
+fn balanced(space: Space, plan: &Plan) -> Result<Star, LayoutError> {
+    let n = plan.sectors.len();
+    if n < 2 {
+        return Err(LayoutError::Unrealisable(
+            "a balanced star needs two sectors or more".into(),
+        ));
+    }
+    let one = Order::integer(1);
+    let v_angle = TAU / n as f64;
+    let mut corners: Vec<Corner> = Vec::new();
+    let mut star = Star {
+        points: Vec::new(),
+        ideal: Vec::new(),
+        orders: Vec::new(),
+        glue: Vec::new(),
+        copies: Vec::new(),
+    };
+    let mut first_edge = Vec::new();
+    for sector in &plan.sectors {
+        let e = corners.len();
+        first_edge.push(e);
+        star.copies.push(e);
+        corners.push((v_angle, false, one));
+        corners.extend(sector_corners(&sector.kind));
+        star.glue.resize(corners.len(), Glue::Mirror);
+        if sector.kind != Kind::Plain {
+            // The cone's two edges, and a boundary's d and d̄, are paired with each other.
+            pair(&mut star.glue, e, corners.len() - 1, false);
+        }
+    }
+    for &(a, b, reverses) in &plan.pairs {
+        pair(&mut star.glue, first_edge[a], first_edge[b], reverses);
+    }
+    let angles: Vec<f64> = corners.iter().map(|c| c.0).collect();
+    let ideal: Vec<bool> = corners.iter().map(|c| c.1).collect();
     let raw = incircle::polygon(space, &angles, &ideal)?;
-    let points: Vec<DVec3> = raw
+    star.points = raw
         .corners
         .iter()
         .zip(&ideal)
         .map(|(&z, &i)| {
             if i {
-                DVec3::new(z.re, z.im, 1.0)
+                ideal_at(z.arg())
             } else {
                 space.to_ambient(z)
             }
         })
         .collect();
-    let last = points.len() - 1;
-    let chord = super::geometry::wall_through(space, points[last], points[0], DVec3::Z);
-    Ok(Cap {
-        chord_bearing: (-chord.y).atan2(-chord.x),
-        inradius: space.asin(chord.dot(DVec3::Z)),
-        points,
-        ideal,
-    })
-}
-
-/// The cap of a boundary's corners (H²): the polygon with angles φ, π/b₁, …, π/bₙ, φ and an
-/// inscribed circle, whose side P_{n+1}P₀ (the chord) will be perpendicular to the sector's axis.
-///
-/// The cut edge d is perpendicular to the first mirror at P₀, so it makes the angle π/2 − φ
-/// with the chord. The pairing of d̄ with d is r_d ∘ r_axis, which fixes the point where d meets
-/// the axis; a group element other than the identity fixes no interior point of the polygon, so
-/// d must not meet the axis: C(c)·cos φ > 1 with c half the chord (the cap's size falls as φ
-/// grows). `cut` ∈ (0, 1) picks φ = cut·φ_meet, with φ_meet the base angle at which d just
-/// becomes asymptotic to the axis.
-fn cap(space: Space, corners: &[Order], cut: f64) -> Result<Cap, LayoutError> {
-    if space.kappa() >= 0.0 {
-        return Err(LayoutError::Unsupported(
-            "boundaries with corners are built by the star only in H²; the Euclidean and \
-             spherical ones are textbook constructions"
-                .into(),
-        ));
-    }
-    let n = corners.len() as f64;
-    let sum: f64 = corners.iter().map(Order::corner_angle).sum();
-    let top = ((n * PI - sum) / 2.0).min(PI / 2.0) * (1.0 - 1e-9);
-    let ultraparallel = |base: f64| {
-        build_cap(space, corners, base).map_or(f64::NAN, |c| {
-            let half = 0.5 * space.ambient_distance(c.points[0], c.points[c.points.len() - 1]);
-            space.cos(half) * base.cos() - 1.0
-        })
-    };
-    let low = 1e-6 * top;
-    let meet = if ultraparallel(top) > 0.0 {
-        top
-    } else {
-        bisect(low, top, ultraparallel)
-    };
-    build_cap(space, corners, cut * meet)
-}
-
-/// Turns the cap so that its chord faces the centre across the positive real axis, and slides it
-/// along the axis until the perpendicular to its first mirror at P₀ passes through v (`below`).
-fn place_cap(space: Space, cap: &Cap, below: DVec3) -> Result<Vec<DVec3>, LayoutError> {
-    let turn = Isometry::rotation(space, PI - cap.chord_bearing);
-    let moved = |t: f64| {
-        let m = Isometry::translation_by(space, t + cap.inradius, Complex64::new(1.0, 0.0))
-            .compose(&turn);
-        cap.points
-            .iter()
-            .map(|&p| m.apply_ambient(p))
-            .collect::<Vec<_>>()
-    };
-    // The signed distance from d to v, positive on P₁'s side.
-    let side = |t: f64| {
-        let p = moved(t);
-        let u = toward(space, p[0], p[1]);
-        DVec3::new(u.x, u.y, space.kappa() * u.z).dot(below)
-    };
-    let grid: Vec<f64> = (-40..=40).map(|i| f64::from(i) * 0.25).collect();
-    let bracket = grid
-        .windows(2)
-        .find(|w| side(w[0]) >= 0.0 && side(w[1]) < 0.0)
-        .ok_or_else(|| {
-            LayoutError::Unrealisable(
-                "no position of a boundary's corners lets its cut edge reach v at a right angle"
-                    .into(),
-            )
-        })?;
-    Ok(moved(bisect(bracket[0], bracket[1], side)))
+    star.ideal = ideal;
+    star.orders = corners.iter().map(|c| c.2).collect();
+    Ok(star)
 }
