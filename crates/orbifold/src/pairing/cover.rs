@@ -673,6 +673,9 @@ mod tests {
                 check_covers_disc(p, 2.0);
             }
         }
+        // An ideal corner on a boundary with corners (the balanced star): a smaller disc, as the
+        // cusp's tiles soon lie too far out for a certified enumeration.
+        check_covers_disc(polygon("∞*∞"), 1.0);
     }
 
     #[test]

@@ -10,18 +10,25 @@
 //! - a **handle**: four sectors x y x̄ ȳ with one edge each, x̄ paired with x and ȳ with y by
 //!   orientation-preserving isometries (translations along their axes);
 //! - a **cross-cap**: two sectors z z, the second paired with the first by a glide reflection;
-//! - a **mirror boundary** `*b₁…bₙ`: an edge d out to the boundary, meeting it at a right angle
-//!   at P₀, the mirror edges through corners of angle π/bᵢ, and an edge d̄ back from P_{n+1},
-//!   the mirror image of d across the sector's axis; d̄ is paired with d by r_d ∘ r_axis, so P₀
-//!   and P_{n+1} form one cycle of angle π/2 + π/2 = π. For n ≥ 1 the corners lie on a *cap*: the
-//!   polygon with angles φ, π/b₁, …, π/bₙ, φ and an inscribed circle, whose side P_{n+1}P₀ (the
-//!   chord) is perpendicular to the axis; for n = 0 the mirror is one edge perpendicular to the
-//!   axis.
+//! - a **mirror boundary** `*b₁…bₙ`: an edge d out to the boundary, ending at P₀, the mirror
+//!   edges through the corners (angle π/bᵢ), and an edge d̄ back from P_{n+1}, paired with d;
+//!   P₀ and P_{n+1} form one cycle of angle π. Without corners the mirror is one edge
+//!   perpendicular to the sector's axis, d meets it at a right angle at P₀ and d̄ is d's mirror
+//!   image across the axis, paired with it by r_d ∘ r_axis (π/2 + π/2 = π).
 //!
 //! Pairing a sector with its partner needs only that the two chords have the same length, so
 //! paired sectors have the same width. All the other vertex cycles have their angle sums by
 //! construction; the copies of v form one cycle, whose angle sum is 2π when R is right: in E² for
 //! every R (R = 1 sets the scale), in H² for one R, found by bisection (the sum falls as R grows).
+//!
+//! A symbol with a boundary that has corners gets the **balanced star** instead:
+//! the same corners, in the same order and with the same pairings, placed as the polygon with an
+//! inscribed circle and the cycles' angles (2π/N at each of the N copies of v, π/2 at P₀ and
+//! P_{n+1}). In a polygon with an inscribed circle the tangent lengths depend only on the
+//! angles, so every paired edge has its partner's length (the two tangent segments from a corner
+//! are legs of congruent right triangles; the polygon is `--shape incircle`'s, layout/incircle.rs). It is
+//! rigid but exists for every good hyperbolic symbol; the circle of radius R with both ends of
+//! a cut at right angles does not (docs/orbifolds.md).
 
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, PI, SQRT_2, TAU};
 
@@ -132,7 +139,7 @@ struct Shape {
     cuts: Vec<f64>,
 }
 
-/// The star's draft for `symbol` (E² and H²).
+/// The star's draft for `symbol` (E² and H²): the balanced star when a boundary has corners.
 pub(crate) fn draft(
     symbol: &OrbifoldSymbol,
     space: Space,

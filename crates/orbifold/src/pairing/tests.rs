@@ -231,9 +231,9 @@ fn hyperbolic_examples() {
     }
 }
 
-/// Every hyperbolic symbol with a mirror boundary that has corners and at most three features
-/// (cones, boundaries, handles, cross-caps), corner and cone orders 2…5 and ∞, builds and meets
-/// Poincaré's conditions; so do the ones the cap construction could not build.
+/// Hyperbolic symbols with a mirror boundary that has one to three corners and up to two more
+/// features (cones, boundaries, a handle, cross-caps), corner and cone orders 2…5 and ∞, build
+/// and meet Poincaré's conditions; so do the ones the cap construction could not build.
 #[test]
 fn boundaries_with_corners_build() {
     let orders: Vec<Order> = (2..=5)
@@ -267,6 +267,10 @@ fn boundaries_with_corners_build() {
             others.push((0, vec![*a], vec![], 0));
             others.push((0, vec![*a], vec![], 1));
             others.push((0, vec![*a], vec![vec![]], 0));
+            others.push((1, vec![*a], vec![], 0));
+            others.push((0, vec![*a], vec![vec![*a]], 0));
+            others.push((0, vec![], vec![vec![*a]], 1));
+            others.push((0, vec![], vec![vec![*a, *a]], 0));
             for b in &orders {
                 others.push((0, vec![*a, *b], vec![], 0));
             }
