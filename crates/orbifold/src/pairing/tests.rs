@@ -231,6 +231,9 @@ fn hyperbolic_examples() {
     }
 }
 
+/// Handles, cones, boundaries and cross-caps, as `OrbifoldSymbol::new` takes them.
+type Features = (u32, Vec<Order>, Vec<Vec<Order>>, u32);
+
 /// Hyperbolic symbols with a mirror boundary that has one to three corners and up to two more
 /// features (cones, boundaries, a handle, cross-caps), corner and cone orders 2…5 and ∞, build
 /// and meet Poincaré's conditions; so do the ones the cap construction could not build.
@@ -254,7 +257,7 @@ fn boundaries_with_corners_build() {
     }
     let mut built = 0;
     for corners in &corner_lists {
-        let mut others: Vec<(u32, Vec<Order>, Vec<Vec<Order>>, u32)> = vec![
+        let mut others: Vec<Features> = vec![
             (0, vec![], vec![], 0),
             (1, vec![], vec![], 0),
             (0, vec![], vec![], 1),
