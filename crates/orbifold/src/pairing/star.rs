@@ -346,8 +346,7 @@ fn solve_radius(space: Space, plan: &Plan, shape: &Shape) -> Result<f64, LayoutE
         assemble(space, plan, shape, r).map_or(f64::NAN, |s| copies_angle_sum(space, &s) - TAU)
     };
     // On a geometric grid of radii, the first change of sign between two radii where the
-    // construction exists (it may exist only on an interval of R; with a boundary's cap the sum
-    // can rise with R). A jump across π (a corner turning reflex) is not a root: the root's
+    // construction exists (it may exist only on an interval of R). A jump across π (a corner turning reflex) is not a root: the root's
     // polygon is checked for convexity afterwards.
     let grid: Vec<f64> = (0..=120).map(|i| 1e-3 * 1.08f64.powi(i)).collect();
     let values: Vec<f64> = grid.iter().map(|&r| excess(r)).collect();
@@ -492,7 +491,7 @@ fn sector_corners(kind: &Kind) -> Vec<Corner> {
 ///
 /// Why the pairings are isometries: in a polygon with an inscribed circle the two tangent
 /// segments from a corner have the same length, which depends only on the corner's angle
-/// (tanh t = tanh r / tan(α/2)). A paired edge runs between a copy of v and a cone point or a
+/// (sinh t = tanh r / tan(α/2) in H²). A paired edge runs between a copy of v and a cone point or a
 /// cut's end, or between two copies of v, so every edge and its partner are the sums of tangent
 /// segments of equal angles: they have equal lengths. At an ideal cone point the two edges'
 /// tangency points lie on one horocycle about it, so the pairing is parabolic.
