@@ -21,14 +21,14 @@
 //! construction; the copies of v form one cycle, whose angle sum is 2π when R is right: in E² for
 //! every R (R = 1 sets the scale), in H² for one R, found by bisection (the sum falls as R grows).
 //!
-//! A symbol with a boundary that has corners gets the **balanced star** instead:
-//! the same corners, in the same order and with the same pairings, placed as the polygon with an
-//! inscribed circle and the cycles' angles (2π/N at each of the N copies of v, π/2 at P₀ and
-//! P_{n+1}). In a polygon with an inscribed circle the tangent lengths depend only on the
-//! angles, so every paired edge has its partner's length (the two tangent segments from a corner
-//! are legs of congruent right triangles; the polygon is `--shape incircle`'s, layout/incircle.rs). It is
-//! rigid but exists for every good hyperbolic symbol; the circle of radius R with both ends of
-//! a cut at right angles does not (docs/orbifolds.md).
+//! A symbol with a boundary that has corners gets the **balanced star** instead: the same
+//! corners, in the same order and with the same pairings, placed as the polygon with an inscribed
+//! circle and the cycles' angles (2π/N at each of the N copies of v, π/2 at P₀ and P_{n+1}). In a
+//! polygon with an inscribed circle the tangent lengths depend only on the angles (the two
+//! tangent segments from a corner are legs of congruent right triangles), so every paired edge
+//! has its partner's length; the polygon is the one of `--shape incircle` (layout/incircle.rs).
+//! It is rigid but exists for every good hyperbolic symbol; the circle of radius R with both
+//! ends of a cut at right angles does not (docs/orbifolds.md).
 
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, PI, SQRT_2, TAU};
 
@@ -491,9 +491,9 @@ fn sector_corners(kind: &Kind) -> Vec<Corner> {
 ///
 /// Why the pairings are isometries: in a polygon with an inscribed circle the two tangent
 /// segments from a corner have the same length, which depends only on the corner's angle
-/// (sinh t = tanh r / tan(α/2) in H²). A paired edge runs between a copy of v and a cone point or a
-/// cut's end, or between two copies of v, so every edge and its partner are the sums of tangent
-/// segments of equal angles: they have equal lengths. At an ideal cone point the two edges'
+/// (sinh t = tanh r / tan(α/2) in H²). A paired edge runs between a copy of v and a cone point
+/// or a cut's end, or between two copies of v, so every edge and its partner are the sums of
+/// tangent segments of equal angles: they have equal lengths. At an ideal cone point the two edges'
 /// tangency points lie on one horocycle about it, so the pairing is parabolic.
 fn balanced(space: Space, plan: &Plan) -> Result<Star, LayoutError> {
     let n = plan.sectors.len();
