@@ -4,7 +4,8 @@ EXR (not denoised) and prints, for each set of render options, the seconds an im
 per-pixel relative noise — each pixel's standard deviation over the seeds over its mean,
 summarised by the median and the 90th percentile over the pixels in a region (the whole image,
 or its bottom third: the floor in front of the camera) — and that noise scaled to one second,
-σ·√t, the figure that equal-time comparisons rank by (lower is better).
+σ·√t, the figure that equal-time comparisons rank by (lower is better), and to a million rays
+traced, σ·√rays, which a loaded machine does not disturb.
 
 Each set of options is one argument of `--variant NAME="OPTIONS"`, e.g.
 
@@ -46,14 +47,16 @@ def main():
     variants = [v.split("=", 1) for v in options.variant] or [["defaults", ""]]
     with tempfile.TemporaryDirectory() as tmp:
         for name, extra in variants:
-            images, seconds = [], []
+            images, seconds, rays = [], [], []
             for seed in range(options.seeds):
                 out = os.path.join(tmp, f"{name}-{seed}.exr")
                 command = [options.bin, "render", options.scene, "--spp", str(options.spp),
                            "--seed", str(seed), "--no-denoise", "--json", "-o", out]
                 command += (["--size", options.size] if options.size else []) + shlex.split(extra)
                 result = subprocess.run(command, check=True, capture_output=True, text=True)
-                seconds.append(json.loads(result.stdout)["seconds"])
+                summary = json.loads(result.stdout)
+                seconds.append(summary["seconds"])
+                rays.append(summary["rays"])
                 images.append(load(out))
             stack = np.stack(images)
             if options.region == "floor":
@@ -61,10 +64,11 @@ def main():
             mean = stack.mean(axis=0)
             lit = mean > 1e-3 * mean.max()
             relative = stack.std(axis=0, ddof=1)[lit] / mean[lit]
-            t = float(np.mean(seconds))
+            t, work = float(np.mean(seconds)), float(np.mean(rays)) / 1e6
             median, p90 = np.median(relative), np.percentile(relative, 90)
-            print(f"{name:>12}: {t:7.2f} s an image; per-pixel noise median {100 * median:.2f} %, "
-                  f"90th percentile {100 * p90:.2f} %; median × √t {100 * median * t ** 0.5:.2f}",
+            print(f"{name:>12}: {t:7.2f} s, {work:.2f} M rays an image; per-pixel noise median "
+                  f"{100 * median:.2f} %, 90th percentile {100 * p90:.2f} %; median × √t "
+                  f"{100 * median * t ** 0.5:.2f}, × √(M rays) {100 * median * work ** 0.5:.2f}",
                   flush=True)
 
 
