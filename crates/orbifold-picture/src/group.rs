@@ -67,7 +67,8 @@ pub struct Folded {
     pub steps: u32,
     /// Whether g reverses orientation.
     pub reflected: bool,
-    /// The edge crossed last on the way out from the base tile (the first move of the fold).
+    /// The edge applied last in the fold: the tile was entered across the pair of this edge
+    /// (as for reflections, where it is the last wall crossed on the way from the base tile).
     pub last: Option<usize>,
 }
 
@@ -120,7 +121,7 @@ impl GroupFold {
     /// `limit` moves (the walk is not guaranteed to shorten for every polygon; see the module).
     pub fn fold(&self, mut p: DVec3, limit: u32) -> Option<Folded> {
         let mut element = DMat3::IDENTITY;
-        let (mut steps, mut reflected, mut first) = (0u32, false, None);
+        let (mut steps, mut reflected, mut last) = (0u32, false, None);
         let mut skip = usize::MAX;
         loop {
             let tolerance = -1e-12 * p.z.abs().max(1.0);
@@ -140,7 +141,7 @@ impl GroupFold {
                     element,
                     steps,
                     reflected,
-                    last: first,
+                    last,
                 });
             }
             if steps >= limit {
@@ -151,7 +152,7 @@ impl GroupFold {
             p = self.neighbours[j] * p;
             element *= self.neighbours[i];
             reflected ^= self.reverses[i];
-            first.get_or_insert(i);
+            last = Some(i);
             steps += 1;
             skip = j;
         }
@@ -231,7 +232,7 @@ const INK: [f64; 3] = [192.0, 57.0, 43.0];
 
 /// Renders the cover of any orbifold's `polygon` as seen in `view`: tiles coloured by
 /// orientation ([`Coloring::Parity`]), by the number of pairings applied ([`Coloring::Depth`])
-/// or by the pair of edges crossed first on the way out ([`Coloring::Wall`]); mirror edges
+/// or by the pair of edges crossed last ([`Coloring::Wall`]); mirror edges
 /// dark, paired edges dark red; the letter `p` in every tile unless a motif is given.
 ///
 /// ```
@@ -328,7 +329,7 @@ fn pixel(
     [colour[0] as u8, colour[1] as u8, colour[2] as u8, 255]
 }
 
-/// The tile's colour: by orientation, by steps, or by the pair of edges crossed first (an edge
+/// The tile's colour: by orientation, by steps, or by the pair of edges crossed last (an edge
 /// and its partner share a colour).
 fn fill(fold: &GroupFold, coloring: Coloring, folded: &Folded) -> [f64; 3] {
     match coloring {

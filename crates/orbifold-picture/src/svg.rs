@@ -493,11 +493,6 @@ pub fn group_tiling_svg(
         svg,
         r##"<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="5" markerHeight="5" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="#c0392b"/></marker></defs>"##
     );
-    let _ = writeln!(
-        svg,
-        r#"<text x="12" y="22" font-size="16">{}</text>"#,
-        escape(title)
-    );
     if polygon.geometry != Geometry::Euclidean {
         let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
         let _ = writeln!(
@@ -508,7 +503,9 @@ pub fn group_tiling_svg(
     }
     for tile in tiles {
         let m = recentre * tile.matrix;
-        let outline = tile_outline(space, &view, &edges, m);
+        let Some(outline) = tile_outline(space, &view, &edges, m) else {
+            continue;
+        };
         let holds_infinity = space.kappa() > 0.0
             && polygon.contains_ambient(m.inverse() * glam::DVec3::new(0.0, 0.0, -1.0), 0.0);
         let fill = match (holds_infinity, tile.reflected) {
@@ -522,25 +519,59 @@ pub fn group_tiling_svg(
         );
     }
     draw_pairings(&mut svg, polygon, &view, &edges, recentre);
+    // The title last, on its own band, so that plane tilings do not cover it.
+    let _ = writeln!(
+        svg,
+        r#"<rect width="100%" height="28" fill="white"/><text x="12" y="22" font-size="16">{}</text>"#,
+        escape(title)
+    );
     svg.push_str("</svg>\n");
     svg
 }
 
-/// The SVG path of a tile: its edges' points moved by `m`, clamped far outside the picture.
-fn tile_outline(space: Space, view: &View, edges: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
+/// The SVG path of a tile: its edges' points moved by `m`, clamped far outside the picture, with
+/// points closer than half a pixel to the last one dropped; `None` for a tile that lies wholly
+/// outside the picture or is under a pixel and a half across (near the circle at infinity),
+/// which keeps deep hyperbolic pictures small.
+fn tile_outline(
+    space: Space,
+    view: &View,
+    edges: &[Vec<glam::DVec3>],
+    m: glam::DMat3,
+) -> Option<String> {
     let far = 20.0 * view.size / view.scale;
-    let mut path = String::new();
-    for (k, &p) in edges.iter().flatten().enumerate() {
-        let z = space.to_model(m * p);
-        let z = if z.norm() > far || !z.is_finite() {
-            z / z.norm() * far
-        } else {
-            z
-        };
-        let (x, y) = view.px(z);
-        let _ = write!(path, "{}{x:.2} {y:.2} ", if k == 0 { "M" } else { "L" });
+    let points: Vec<(f64, f64)> = edges
+        .iter()
+        .flatten()
+        .map(|&p| {
+            let z = space.to_model(m * p);
+            let z = if z.norm() > far || !z.is_finite() {
+                z / z.norm() * far
+            } else {
+                z
+            };
+            view.px(z)
+        })
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .collect();
+    let (lo, hi) = points.iter().fold(
+        ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN)),
+        |(lo, hi), &(x, y)| ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y))),
+    );
+    let outside = hi.0 < 0.0 || hi.1 < 0.0 || lo.0 > view.size || lo.1 > view.size + 24.0;
+    if points.is_empty() || outside || (hi.0 - lo.0).max(hi.1 - lo.1) < 1.5 {
+        return None;
     }
-    path
+    let mut path = String::new();
+    let mut last = (f64::MAX, f64::MAX);
+    for (k, &(x, y)) in points.iter().enumerate() {
+        if (x - last.0).hypot(y - last.1) < 0.5 {
+            continue;
+        }
+        last = (x, y);
+        let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+    }
+    Some(path)
 }
 
 /// The base tile's edges: mirrors thick and blue; paired edges red, each with its letter and an

@@ -95,7 +95,10 @@ fn run_group(args: &TilingArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError>
             let bound = if polygon.geometry == orbifold::Geometry::Spherical {
                 Bound::All
             } else {
-                Bound::Depth(args.depth.unwrap_or(6) as usize)
+                // Without --depth, whole depths up to 20 000 tiles: groups with many
+                // generators grow fast, and tiles too small to see are left out anyway.
+                args.depth
+                    .map_or(Bound::Tiles(20_000), |d| Bound::Depth(d as usize))
             };
             let cover = GroupCover::enumerate(symbol, bound, true)
                 .map_err(|e| CliError::Input(e.to_string()))?;
