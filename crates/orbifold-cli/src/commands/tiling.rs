@@ -103,8 +103,15 @@ fn run_group(args: &TilingArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError>
             let cover = GroupCover::enumerate(symbol, bound, true)
                 .map_err(|e| CliError::Input(e.to_string()))?;
             too_many(cover.tiles.len())?;
-            picture::group_tiling_svg(&polygon, &cover.tiles, &title, args.size, center, args.zoom)
-                .into_bytes()
+            picture::group_tiling_svg(
+                &cover.polygon,
+                &cover.tiles,
+                &title,
+                args.size,
+                center,
+                args.zoom,
+            )
+            .into_bytes()
         }
         _ => return Err(bad_extension(args)),
     };
