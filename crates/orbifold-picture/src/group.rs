@@ -479,6 +479,37 @@ mod tests {
     }
 
     #[test]
+    fn the_svg_draws_each_pairing_once_on_both_edges() {
+        use orbifold::cover::Bound;
+        use orbifold::pairing::cover::GroupCover;
+        for symbol in ["22×", "4*3", "*×", "2223"] {
+            let cover =
+                GroupCover::enumerate(&symbol.parse().unwrap(), Bound::Depth(3), true).unwrap();
+            let polygon = &cover.polygon;
+            let svg = crate::svg::group_tiling_svg(
+                polygon,
+                &cover.tiles,
+                symbol,
+                300,
+                Complex64::new(0.0, 0.0),
+                1.0,
+            );
+            let paired = polygon
+                .edges
+                .iter()
+                .filter(|e| matches!(e.kind, EdgeKind::Paired { .. }))
+                .count();
+            assert_eq!(svg.matches("marker-end").count(), paired, "{symbol}");
+            for k in 0..paired / 2 {
+                let letter = format!(">{}</text>", char::from(b'a' + k as u8));
+                assert_eq!(svg.matches(&letter).count(), 2, "{symbol}: {letter}");
+            }
+            let mirrors = polygon.edges.len() - paired;
+            assert_eq!(svg.matches("#1f6fd1").count(), mirrors, "{symbol}");
+        }
+    }
+
+    #[test]
     fn the_letter_has_no_symmetry() {
         let z = Complex64::new(0.4, 0.3);
         assert!(letter_p(z));

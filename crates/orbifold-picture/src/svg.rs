@@ -442,7 +442,8 @@ fn pairing_letters(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Optio
 
 /// An SVG of the tiles of any orbifold group in its conformal model (Poincaré disk,
 /// stereographic plane or Euclidean plane), each tile filled by orientation, moved so that
-/// `center` is at the middle and magnified by `zoom`; the base tile's edges are drawn as in
+/// `center` is at the middle and magnified by `zoom`, with the letter p in every tile large enough
+/// to read (so rotations, reflections and glides show apart); the base tile's edges are drawn as in
 /// textbooks: mirrors thick and blue, paired edges red with a shared letter and arrows showing
 /// how the pairing glues them (opposite ways for a rotation or translation, the same way for a
 /// glide reflection). A tile that holds the point at infinity of the stereographic plane is
@@ -482,6 +483,7 @@ pub fn group_tiling_svg(
     let edges: Vec<Vec<glam::DVec3>> = (0..polygon.edges.len())
         .map(|i| paired_edge_points(polygon, i, 16))
         .collect();
+    let letters = letter_strokes(polygon);
     let mut svg = String::new();
     let height = size + 24;
     let _ = writeln!(
@@ -503,7 +505,7 @@ pub fn group_tiling_svg(
     }
     for tile in tiles {
         let m = recentre * tile.matrix;
-        let Some(outline) = tile_outline(space, &view, &edges, m) else {
+        let Some((outline, extent)) = tile_outline(space, &view, &edges, m) else {
             continue;
         };
         let holds_infinity = space.kappa() > 0.0
@@ -517,6 +519,14 @@ pub fn group_tiling_svg(
             svg,
             r##"<path d="{outline} Z" fill="{fill}" stroke="#222" stroke-width="0.6"/>"##
         );
+        if extent > 16.0 && !holds_infinity {
+            let _ = writeln!(
+                svg,
+                r##"<path d="{}" fill="none" stroke="#c0392b" stroke-width="{:.1}"/>"##,
+                letter_path(space, &view, &letters, m),
+                (extent / 40.0).clamp(0.8, 3.0)
+            );
+        }
     }
     draw_pairings(&mut svg, polygon, &view, &edges, recentre);
     // The title last, on its own band, so that plane tilings do not cover it.
@@ -538,7 +548,7 @@ fn tile_outline(
     view: &View,
     edges: &[Vec<glam::DVec3>],
     m: glam::DMat3,
-) -> Option<String> {
+) -> Option<(String, f64)> {
     let far = 20.0 * view.size / view.scale;
     let points: Vec<(f64, f64)> = edges
         .iter()
@@ -559,7 +569,8 @@ fn tile_outline(
         |(lo, hi), &(x, y)| ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y))),
     );
     let outside = hi.0 < 0.0 || hi.1 < 0.0 || lo.0 > view.size || lo.1 > view.size + 24.0;
-    if points.is_empty() || outside || (hi.0 - lo.0).max(hi.1 - lo.1) < 1.5 {
+    let extent = (hi.0 - lo.0).max(hi.1 - lo.1);
+    if points.is_empty() || outside || extent < 1.5 {
         return None;
     }
     let mut path = String::new();
@@ -571,7 +582,47 @@ fn tile_outline(
         last = (x, y);
         let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
     }
-    Some(path)
+    Some((path, extent))
+}
+
+/// The letter p about the polygon's centre, as ambient points of two strokes (a stem, and a
+/// bowl at the top right), the same glyph as the raster pictures draw: carried to every tile it
+/// shows rotations (p turned) and reflections or glides (p mirrored) apart.
+fn letter_strokes(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Vec<glam::DVec3>> {
+    let space = polygon.space();
+    let radius = orbifold::isometry::Isometry::translation_by(
+        space,
+        polygon.clearance().max(0.0),
+        Complex64::new(1.0, 0.0),
+    )
+    .apply(Complex64::new(0.0, 0.0))
+    .norm()
+        * 0.85;
+    let from_origin = orbifold::isometry::Isometry::translation(space, polygon.centre).matrix();
+    let ambient = |z: Complex64| from_origin * space.to_ambient(z * radius);
+    let stem = vec![
+        ambient(Complex64::new(-0.28, -0.8)),
+        ambient(Complex64::new(-0.28, 0.6)),
+    ];
+    let bowl = (0..=16)
+        .map(|k| {
+            let t = std::f64::consts::TAU * f64::from(k) / 16.0;
+            ambient(Complex64::new(0.02, 0.2) + Complex64::from_polar(0.3, t))
+        })
+        .collect();
+    vec![stem, bowl]
+}
+
+/// The SVG path of the letter's strokes moved by `m`.
+fn letter_path(space: Space, view: &View, strokes: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
+    let mut path = String::new();
+    for stroke in strokes {
+        for (k, &p) in stroke.iter().enumerate() {
+            let (x, y) = view.px(space.to_model(m * p));
+            let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+        }
+    }
+    path
 }
 
 /// The base tile's edges: mirrors thick and blue; paired edges red, each with its letter and an
