@@ -583,7 +583,8 @@ pairings of its fundamental polygon (see `orbifold layout SYMBOL`): a letter p i
 rotations (p turned), reflections and glides (p mirrored into q) apart; --color depth counts the
 pairings applied, --color wall colours by the pair of edges crossed last; a pixel that does not
 arrive within --depth moves (default 500) is left grey. SVGs draw the group's tiles (without
---depth: whole depths up to 20 000 tiles) with the pairings as arrows and letters, mirrors blue.
+--depth: whole depths up to 20 000 tiles), each with its p, and the pairings as arrows and
+letters, mirrors blue.
 
 Models: poincare, klein, halfplane (hyperbolic); stereographic, sphere (spherical); euclidean.
 
