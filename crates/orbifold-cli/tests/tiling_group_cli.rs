@@ -84,6 +84,32 @@ fn colourings_and_models_apply() {
 }
 
 #[test]
+fn a_motif_replaces_the_letter() {
+    let tmp = tempdir();
+    let motif = tmp.path().join("motif.png");
+    // Red on the left, blue on the right.
+    image::RgbaImage::from_fn(4, 4, |x, _| {
+        image::Rgba(if x < 2 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 0, 255, 255]
+        })
+    })
+    .save(&motif)
+    .unwrap();
+    let png = draw(
+        "22×",
+        &tmp.path().join("t.png"),
+        &["--motif", motif.to_str().unwrap()][..],
+    );
+    let image = image::load_from_memory(&png).unwrap().to_rgba8();
+    let has = |c: [u8; 3]| image.pixels().any(|p| p.0[..3] == c);
+    assert!(has([255, 0, 0]) && has([0, 0, 255]));
+    // The letter's ink is not drawn over a motif.
+    assert!(!has([192, 57, 43]));
+}
+
+#[test]
 fn kaleidoscopic_pictures_are_unchanged() {
     // Written by the binary before every symbol was accepted (fixtures/tiling).
     let tmp = tempdir();
