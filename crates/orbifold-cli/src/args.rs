@@ -578,6 +578,14 @@ the tile's depth, its parity the tile's orientation; edges are antialiased from 
 the nearest wall. A motif image, stretched over the polygon's bounding box, is carried to every
 tile and mirrored in the odd ones. SVG pictures draw the tiles up to --depth as geodesic arcs.
 
+Any other orbifold (cones, handles, cross-caps, several boundaries) is folded through the side
+pairings of its fundamental polygon (see `orbifold layout SYMBOL`): a letter p in every tile shows
+rotations (p turned), reflections and glides (p mirrored into q) apart; --color depth counts the
+pairings applied, --color wall colours by the pair of edges crossed last; a pixel that does not
+arrive within --depth moves (default 500) is left grey. SVGs draw the group's tiles (without
+--depth: whole depths up to 20 000 tiles), each with its p, and the pairings as arrows and
+letters, mirrors blue.
+
 Models: poincare, klein, halfplane (hyperbolic); stereographic, sphere (spherical); euclidean.
 
 Examples:
@@ -585,7 +593,10 @@ Examples:
   orbifold tiling '*2222222' -o 74.svg --depth 4
   orbifold tiling '*∞∞∞' -o farey.png --model halfplane --color depth
   orbifold tiling '*235' -o sphere.png --model sphere --motif photo.jpg
-  orbifold tiling '*333' -o p3m1.png --zoom 0.3 --center 0.1,0";
+  orbifold tiling '*333' -o p3m1.png --zoom 0.3 --center 0.1,0
+  orbifold tiling 632 -o p6.png                   rotations only: every p turned
+  orbifold tiling '22×' -o pgg.svg                 glides: arrows the same way round
+  orbifold tiling '4*3' -o 4star3.png --color wall";
 
 const COVER_EXAMPLES: &str = "\
 Every tile is the image of the polygon under one element of the reflection group, produced
@@ -776,7 +787,7 @@ pub enum ColorArg {
 
 #[derive(Debug, Args)]
 pub struct TilingArgs {
-    /// The kaleidoscopic signature.
+    /// The orbifold: a kaleidoscopic signature (`*237`) or any Conway symbol (`632`, `22×`).
     #[arg(value_name = "SIG")]
     pub signature: String,
     /// The picture to write: `.png` or `.svg`.
@@ -801,7 +812,7 @@ pub struct TilingArgs {
     #[arg(long, value_name = "Z", default_value_t = 1.0)]
     pub zoom: f64,
     /// For SVG: draw tiles up to this word length. For PNG: give up on a pixel after this many
-    /// reflections (near ideal corners and the boundary).
+    /// reflections or pairings (near ideal corners and the boundary).
     #[arg(long, value_name = "D")]
     pub depth: Option<u32>,
 }

@@ -370,3 +370,308 @@ pub fn mesh_svg(
     svg.insert_str(end, &mesh);
     svg
 }
+
+/// Points along edge `i` of `polygon`, in ambient coordinates: finite ends by geodesic
+/// interpolation; towards an ideal end, along the Poincaré disk's geodesic from the finite end,
+/// stopping just short of the circle at infinity; a lune's side (antipodal ends) through its
+/// point nearest the centre, which lies between them.
+fn paired_edge_points(
+    polygon: &orbifold::pairing::FundamentalPolygon,
+    i: usize,
+    steps: u32,
+) -> Vec<glam::DVec3> {
+    let space = polygon.space();
+    let e = &polygon.edges[i];
+    let (Some(a), Some(b)) = (e.from, e.to) else {
+        return Vec::new();
+    };
+    let (a, b) = (polygon.vertices[a], polygon.vertices[b]);
+    let along = |p: glam::DVec3, q: glam::DVec3, n: u32| {
+        (0..=n)
+            .map(move |k| space.interpolate(p, q, f64::from(k) / f64::from(n)))
+            .collect::<Vec<_>>()
+    };
+    let towards_ideal = |z: Complex64, w: Complex64| {
+        let d = (w - z) / (1.0 - z.conj() * w);
+        (0..=steps)
+            .map(|k| {
+                let zeta = d * (0.999 * f64::from(k) / f64::from(steps));
+                space.to_ambient((zeta + z) / (1.0 + z.conj() * zeta))
+            })
+            .collect::<Vec<_>>()
+    };
+    match (a.ideal, b.ideal) {
+        (false, false) if space.kappa() > 0.0 && a.ambient.dot(b.ambient) < -1.0 + 1e-9 => {
+            let o = polygon.centre_ambient();
+            let w = e.wall;
+            let mid = (o - w * (w.dot(o) / w.length_squared())).normalize();
+            let mut points = along(a.ambient, mid, steps / 2);
+            points.extend(along(mid, b.ambient, steps / 2).into_iter().skip(1));
+            points
+        }
+        (false, false) => along(a.ambient, b.ambient, steps),
+        (false, true) => towards_ideal(a.position, b.position),
+        (true, false) => {
+            let mut p = towards_ideal(b.position, a.position);
+            p.reverse();
+            p
+        }
+        (true, true) => [a.position, b.position]
+            .map(|z| space.to_ambient(z * 0.999))
+            .to_vec(),
+    }
+}
+
+/// Letters for the paired edges: an edge and its partner share one (a, b, c, …); mirrors none.
+fn pairing_letters(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Option<char>> {
+    use orbifold::pairing::EdgeKind;
+    let mut letters = vec![None; polygon.edges.len()];
+    let mut next = 0u8;
+    for (i, e) in polygon.edges.iter().enumerate() {
+        if let EdgeKind::Paired { partner } = e.kind
+            && letters[i].is_none()
+        {
+            let letter = (b'a' + next % 26) as char;
+            next += 1;
+            letters[i] = Some(letter);
+            letters[partner] = Some(letter);
+        }
+    }
+    letters
+}
+
+/// An SVG of the tiles of any orbifold group in its conformal model (Poincaré disk,
+/// stereographic plane or Euclidean plane), each tile filled by orientation, moved so that
+/// `center` is at the middle and magnified by `zoom`, with the letter p in every tile large enough
+/// to read (so rotations, reflections and glides show apart); the base tile's edges are drawn as in
+/// textbooks: mirrors thick and blue, paired edges red with a shared letter and arrows showing
+/// how the pairing glues them (opposite ways for a rotation or translation, the same way for a
+/// glide reflection). A tile that holds the point at infinity of the stereographic plane is
+/// outlined but not filled.
+///
+/// ```
+/// use orbifold::cover::Bound;
+/// use orbifold::pairing::cover::GroupCover;
+/// use orbifold_picture::svg::group_tiling_svg;
+/// let cover = GroupCover::enumerate(&"22×".parse().unwrap(), Bound::Depth(3), true).unwrap();
+/// let svg = group_tiling_svg(&cover.polygon, &cover.tiles, "pgg", 400, Default::default(), 1.0);
+/// assert!(svg.contains("marker-end"));
+/// ```
+pub fn group_tiling_svg(
+    polygon: &orbifold::pairing::FundamentalPolygon,
+    tiles: &[orbifold::pairing::cover::GroupTile],
+    title: &str,
+    size: u32,
+    center: Complex64,
+    zoom: f64,
+) -> String {
+    let space = polygon.space();
+    let size_f = f64::from(size);
+    let extent = if polygon.geometry == Geometry::Euclidean {
+        4.0
+    } else {
+        1.0
+    };
+    let view = View {
+        centre: Complex64::new(0.0, 0.0),
+        scale: 0.46 * size_f * zoom / extent,
+        size: size_f,
+    };
+    let recentre = orbifold::isometry::Isometry::translation(space, center)
+        .inverse()
+        .matrix();
+    let edges: Vec<Vec<glam::DVec3>> = (0..polygon.edges.len())
+        .map(|i| paired_edge_points(polygon, i, 16))
+        .collect();
+    let letters = letter_strokes(polygon);
+    let mut svg = String::new();
+    let height = size + 24;
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{height}" viewBox="0 0 {size} {height}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+    );
+    let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        svg,
+        r##"<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="5" markerHeight="5" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="#c0392b"/></marker></defs>"##
+    );
+    if polygon.geometry != Geometry::Euclidean {
+        let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
+        let _ = writeln!(
+            svg,
+            r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="#eceef2" stroke="#888" stroke-width="1"/>"##,
+            view.scale
+        );
+    }
+    for tile in tiles {
+        let m = recentre * tile.matrix;
+        let Some((outline, extent)) = tile_outline(space, &view, &edges, m) else {
+            continue;
+        };
+        let holds_infinity = space.kappa() > 0.0
+            && polygon.contains_ambient(m.inverse() * glam::DVec3::new(0.0, 0.0, -1.0), 0.0);
+        let fill = match (holds_infinity, tile.reflected) {
+            (true, _) => "none",
+            (false, true) => "#264653",
+            (false, false) => "#e9c46a",
+        };
+        let _ = writeln!(
+            svg,
+            r##"<path d="{outline} Z" fill="{fill}" stroke="#222" stroke-width="0.6"/>"##
+        );
+        if extent > 16.0 && !holds_infinity {
+            let _ = writeln!(
+                svg,
+                r##"<path d="{}" fill="none" stroke="#c0392b" stroke-width="{:.1}"/>"##,
+                letter_path(space, &view, &letters, m),
+                (extent / 40.0).clamp(0.8, 3.0)
+            );
+        }
+    }
+    draw_pairings(&mut svg, polygon, &view, &edges, recentre);
+    // The title last, on its own band, so that plane tilings do not cover it.
+    let _ = writeln!(
+        svg,
+        r#"<rect width="100%" height="28" fill="white"/><text x="12" y="22" font-size="16">{}</text>"#,
+        escape(title)
+    );
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// The SVG path of a tile: its edges' points moved by `m`, clamped far outside the picture, with
+/// points closer than half a pixel to the last one dropped; `None` for a tile that lies wholly
+/// outside the picture or is under a pixel and a half across (near the circle at infinity),
+/// which keeps deep hyperbolic pictures small.
+fn tile_outline(
+    space: Space,
+    view: &View,
+    edges: &[Vec<glam::DVec3>],
+    m: glam::DMat3,
+) -> Option<(String, f64)> {
+    let far = 20.0 * view.size / view.scale;
+    let points: Vec<(f64, f64)> = edges
+        .iter()
+        .flatten()
+        .map(|&p| {
+            let z = space.to_model(m * p);
+            let z = if z.norm() > far || !z.is_finite() {
+                z / z.norm() * far
+            } else {
+                z
+            };
+            view.px(z)
+        })
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .collect();
+    let (lo, hi) = points.iter().fold(
+        ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN)),
+        |(lo, hi), &(x, y)| ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y))),
+    );
+    let outside = hi.0 < 0.0 || hi.1 < 0.0 || lo.0 > view.size || lo.1 > view.size + 24.0;
+    let extent = (hi.0 - lo.0).max(hi.1 - lo.1);
+    if points.is_empty() || outside || extent < 1.5 {
+        return None;
+    }
+    let mut path = String::new();
+    let mut last = (f64::MAX, f64::MAX);
+    for (k, &(x, y)) in points.iter().enumerate() {
+        if (x - last.0).hypot(y - last.1) < 0.5 {
+            continue;
+        }
+        last = (x, y);
+        let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+    }
+    Some((path, extent))
+}
+
+/// The letter p about the polygon's centre, as ambient points of two strokes (a stem, and a
+/// bowl at the top right), the same glyph as the raster pictures draw: carried to every tile it
+/// shows rotations (p turned) and reflections or glides (p mirrored) apart.
+fn letter_strokes(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Vec<glam::DVec3>> {
+    let space = polygon.space();
+    let radius = orbifold::isometry::Isometry::translation_by(
+        space,
+        polygon.clearance().max(0.0),
+        Complex64::new(1.0, 0.0),
+    )
+    .apply(Complex64::new(0.0, 0.0))
+    .norm()
+        * 0.85;
+    let from_origin = orbifold::isometry::Isometry::translation(space, polygon.centre).matrix();
+    let ambient = |z: Complex64| from_origin * space.to_ambient(z * radius);
+    let stem = vec![
+        ambient(Complex64::new(-0.28, -0.8)),
+        ambient(Complex64::new(-0.28, 0.6)),
+    ];
+    let bowl = (0..=16)
+        .map(|k| {
+            let t = std::f64::consts::TAU * f64::from(k) / 16.0;
+            ambient(Complex64::new(0.02, 0.2) + Complex64::from_polar(0.3, t))
+        })
+        .collect();
+    vec![stem, bowl]
+}
+
+/// The SVG path of the letter's strokes moved by `m`.
+fn letter_path(space: Space, view: &View, strokes: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
+    let mut path = String::new();
+    for stroke in strokes {
+        for (k, &p) in stroke.iter().enumerate() {
+            let (x, y) = view.px(space.to_model(m * p));
+            let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+        }
+    }
+    path
+}
+
+/// The base tile's edges: mirrors thick and blue; paired edges red, each with its letter and an
+/// arrow (an orientation-preserving pairing takes the partner's start to this edge's end, so the
+/// arrows run opposite ways on the two edges; a glide keeps the direction).
+fn draw_pairings(
+    svg: &mut String,
+    polygon: &orbifold::pairing::FundamentalPolygon,
+    view: &View,
+    edges: &[Vec<glam::DVec3>],
+    recentre: glam::DMat3,
+) {
+    use orbifold::pairing::EdgeKind;
+    let space = polygon.space();
+    let letters = pairing_letters(polygon);
+    for (i, (e, points)) in polygon.edges.iter().zip(edges).enumerate() {
+        if points.len() < 2 {
+            continue;
+        }
+        let px: Vec<(f64, f64)> = points
+            .iter()
+            .map(|&p| view.px(space.to_model(recentre * p)))
+            .collect();
+        let (colour, width) = match e.kind {
+            EdgeKind::Mirror => ("#1f6fd1", 3.5),
+            EdgeKind::Paired { .. } => ("#c0392b", 2.2),
+        };
+        let line: Vec<String> = px.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+        let _ = writeln!(
+            svg,
+            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##,
+            line.join(" ")
+        );
+        if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
+            let forward = e.reverses_orientation() || i < partner;
+            let mid = px.len() / 2;
+            let (a, b) = (px[mid.saturating_sub(1)], px[(mid + 1).min(px.len() - 1)]);
+            let ((x0, y0), (x1, y1)) = if forward { (a, b) } else { (b, a) };
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{x0:.2}" y1="{y0:.2}" x2="{x1:.2}" y2="{y1:.2}" stroke="{colour}" stroke-width="2" marker-end="url(#arrow)"/>"##
+            );
+            let (x, y) = px[mid];
+            let _ = writeln!(
+                svg,
+                r##"<text x="{:.2}" y="{:.2}" font-size="15" fill="{colour}">{letter}</text>"##,
+                x + 6.0,
+                y - 6.0
+            );
+        }
+    }
+}

@@ -254,7 +254,7 @@ const OUTSIDE: [u8; 4] = [236, 238, 242, 255];
 /// Pixels that cover many tiles: mostly edge colour.
 const DENSE: [u8; 4] = [70, 70, 80, 255];
 const EDGE: [f64; 3] = [40.0, 40.0, 48.0];
-const PALETTE: [[f64; 3]; 8] = [
+pub(crate) const PALETTE: [[f64; 3]; 8] = [
     [231.0, 111.0, 81.0],
     [42.0, 157.0, 143.0],
     [233.0, 196.0, 106.0],
@@ -267,7 +267,7 @@ const PALETTE: [[f64; 3]; 8] = [
 
 /// The ambient point under screen point `s` (in units of half the picture), or `None` outside
 /// the model.
-fn unproject(space: Space, model: Model, s: Complex64) -> Option<DVec3> {
+pub(crate) fn unproject(space: Space, model: Model, s: Complex64) -> Option<DVec3> {
     let z = match model {
         Model::Poincare | Model::Stereographic | Model::Euclidean => s,
         Model::Klein => {
@@ -357,20 +357,25 @@ fn pixel(
     [colour[0] as u8, colour[1] as u8, colour[2] as u8, 255]
 }
 
-fn intrinsic_distance(space: Space, p: DVec3, q: DVec3) -> f64 {
+pub(crate) fn intrinsic_distance(space: Space, p: DVec3, q: DVec3) -> f64 {
     let z = space.to_model(p);
     let w = space.to_model(q);
     space.distance(z, w)
 }
 
-fn shade(depth: u32) -> [f64; 3] {
+pub(crate) fn shade(depth: u32) -> [f64; 3] {
     let t = (f64::from(depth) / 12.0).min(1.0);
     let (a, b) = (PALETTE[2], PALETTE[3]);
     [0, 1, 2].map(|c| a[c] * (1.0 - t) + b[c] * t)
 }
 
 fn sample(motif: &Motif, fold: &Fold, z: Complex64) -> [f64; 3] {
-    let (lo, hi) = fold.frame;
+    sample_frame(motif, fold.frame, z)
+}
+
+/// The motif's colour at model point `z`, the motif stretched over the box `frame` (lo, hi).
+pub(crate) fn sample_frame(motif: &Motif, frame: (Complex64, Complex64), z: Complex64) -> [f64; 3] {
+    let (lo, hi) = frame;
     let u = ((z.re - lo.re) / (hi.re - lo.re)).clamp(0.0, 1.0);
     let v = ((hi.im - z.im) / (hi.im - lo.im)).clamp(0.0, 1.0);
     let x = ((u * f64::from(motif.width)) as u32).min(motif.width - 1);
