@@ -596,7 +596,9 @@ fn adaptive_sampling_spends_the_samples_where_the_screen_is_noisy() {
     assert!(adaptive.paths < u64::from(spp + 1) * pixels);
     assert_eq!(adaptive.samples, spp);
     // The quarter of the pixels that got the most samples is the noisiest on screen (as the
-    // uniform render measures it).
+    // uniform render measures it): 1.9 times the least sampled quarter's error. (A pixel's
+    // count comes from its neighbours' noise, never its own, which keeps the image unbiased;
+    // counted by its own too, the ratio was over 2.)
     let errors = uniform.film.display_errors(uniform.film.auto_exposure());
     let mut by_count: Vec<(u64, f64)> = (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
@@ -608,7 +610,7 @@ fn adaptive_sampling_spends_the_samples_where_the_screen_is_noisy() {
     let (fewest, most) = (&by_count[..quarter], &by_count[by_count.len() - quarter..]);
     assert!(most[0].0 > fewest[quarter - 1].0, "the counts differ");
     assert!(
-        mean(most) > 2.0 * mean(fewest),
+        mean(most) > 1.5 * mean(fewest),
         "display error of the most sampled {:.2}, of the least {:.2}",
         mean(most),
         mean(fewest)
