@@ -19,10 +19,7 @@ use orbifold::pairing::{EdgeKind, FundamentalPolygon};
 use orbifold::space::Space;
 use rayon::prelude::*;
 
-use crate::tiling::{
-    Coloring, Model, Motif, PALETTE, Picture, View, intrinsic_distance, sample_frame, shade,
-    unproject,
-};
+use crate::tiling::{Coloring, Motif, PALETTE, Picture, View, pixel_point, sample_frame, shade};
 
 /// The moves of the fold: for each edge, its wall and the pairing across it.
 ///
@@ -298,21 +295,9 @@ fn pixel(
     i: usize,
     j: usize,
 ) -> [u8; 4] {
-    let half = f64::from(view.size) / 2.0;
-    let screen = |x: f64, y: f64| Complex64::new((x - half) / half, (half - y) / half) / view.zoom;
-    let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
     let space = fold.space;
-    let s = screen(x, y);
-    let Some(p) = unproject(space, view.model, s) else {
+    let Some((p, pixel_size)) = pixel_point(space, view, i, j) else {
         return BACKGROUND;
-    };
-    let model_pixel = 1.0 / (half * view.zoom);
-    let pixel_size = match view.model {
-        Model::Poincare | Model::Stereographic | Model::Euclidean => {
-            space.conformal_factor(s) * model_pixel
-        }
-        _ => unproject(space, view.model, screen(x + 0.5, y))
-            .map_or(f64::INFINITY, |q| 2.0 * intrinsic_distance(space, p, q)),
     };
     if pixel_size > 2.0 * fold.clearance {
         return DENSE;
@@ -354,6 +339,7 @@ fn fill(fold: &GroupFold, coloring: Coloring, folded: &Folded) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tiling::unproject;
     use orbifold::Geometry;
     use proptest::prelude::*;
 

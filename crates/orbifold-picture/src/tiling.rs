@@ -299,6 +299,26 @@ pub(crate) fn unproject(space: Space, model: Model, s: Complex64) -> Option<DVec
     Some(space.to_ambient(z))
 }
 
+/// Pixel (i, j)'s point on the plane (ambient) and its intrinsic size: from the conformal
+/// factor in the conformal models, numerically (half a pixel to the right) in the others;
+/// `None` where the pixel is off the model. Shared by the reflection and the group pictures.
+pub(crate) fn pixel_point(space: Space, view: &View, i: usize, j: usize) -> Option<(DVec3, f64)> {
+    let half = f64::from(view.size) / 2.0;
+    let screen = |x: f64, y: f64| Complex64::new((x - half) / half, (half - y) / half) / view.zoom;
+    let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
+    let s = screen(x, y);
+    let p = unproject(space, view.model, s)?;
+    let model_pixel = 1.0 / (half * view.zoom);
+    let pixel_size = match view.model {
+        Model::Poincare | Model::Stereographic | Model::Euclidean => {
+            space.conformal_factor(s) * model_pixel
+        }
+        _ => unproject(space, view.model, screen(x + 0.5, y))
+            .map_or(f64::INFINITY, |q| 2.0 * intrinsic_distance(space, p, q)),
+    };
+    Some((p, pixel_size))
+}
+
 fn pixel(
     fold: &Fold,
     view: &View,
@@ -307,23 +327,9 @@ fn pixel(
     i: usize,
     j: usize,
 ) -> [u8; 4] {
-    let half = f64::from(view.size) / 2.0;
-    let screen = |x: f64, y: f64| Complex64::new((x - half) / half, (half - y) / half) / view.zoom;
-    let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
     let space = fold.space;
-    let s = screen(x, y);
-    let Some(p) = unproject(space, view.model, s) else {
+    let Some((p, pixel_size)) = pixel_point(space, view, i, j) else {
         return BACKGROUND;
-    };
-    // The intrinsic size of this pixel: from the conformal factor in the conformal models,
-    // numerically (half a pixel to the right) in the others.
-    let model_pixel = 1.0 / (half * view.zoom);
-    let pixel_size = match view.model {
-        Model::Poincare | Model::Stereographic | Model::Euclidean => {
-            space.conformal_factor(s) * model_pixel
-        }
-        _ => unproject(space, view.model, screen(x + 0.5, y))
-            .map_or(f64::INFINITY, |q| 2.0 * intrinsic_distance(space, p, q)),
     };
     if pixel_size > 2.0 * fold.inradius {
         // Many tiles under one pixel (near the boundary): their edges dominate.

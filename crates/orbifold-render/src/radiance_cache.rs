@@ -279,34 +279,8 @@ impl RadianceCache {
         tangents: [(DVec3, f64); 2],
         jitter: [f64; 2],
     ) -> Option<Rgb> {
-        self.lookup_from(point, height, facing, width, tangents, jitter, READY)
-    }
-
-    /// [`RadianceCache::lookup`] from cells that hold at least `least` estimates.
-    #[allow(clippy::too_many_arguments)]
-    fn lookup_from(
-        &self,
-        point: DVec3,
-        height: f64,
-        facing: u8,
-        width: f64,
-        tangents: [(DVec3, f64); 2],
-        jitter: [f64; 2],
-        least: u32,
-    ) -> Option<Rgb> {
-        // (NaN widths fail the test too.)
-        if width.is_nan() || width < FINEST_CELL {
-            return None;
-        }
-        let level = ((width / FINEST_CELL).log2().floor() as u32).min(LEVELS - 1);
-        let size = FINEST_CELL * f64::from(1u32 << level);
-        let (a, b) = ((jitter[0] - 0.5) * size, (jitter[1] - 0.5) * size);
-        let point = point + tangents[0].0 * a + tangents[1].0 * b;
-        let height = height + tangents[0].1 * a + tangents[1].1 * b;
-        let k = key(level, finest_cell(point, height), facing);
-        let cell = self.levels[level as usize].get(&k)?;
-        let n = f64::from(cell.count);
-        (cell.count >= least).then(|| cell.total.map(|s| s / n))
+        self.reader(0)
+            .lookup(point, height, facing, width, tangents, jitter)
     }
 }
 
@@ -329,8 +303,19 @@ impl Reader<'_> {
         tangents: [(DVec3, f64); 2],
         jitter: [f64; 2],
     ) -> Option<Rgb> {
-        self.cache
-            .lookup_from(point, height, facing, width, tangents, jitter, self.least)
+        // (NaN widths fail the test too.)
+        if width.is_nan() || width < FINEST_CELL {
+            return None;
+        }
+        let level = ((width / FINEST_CELL).log2().floor() as u32).min(LEVELS - 1);
+        let size = FINEST_CELL * f64::from(1u32 << level);
+        let (a, b) = ((jitter[0] - 0.5) * size, (jitter[1] - 0.5) * size);
+        let point = point + tangents[0].0 * a + tangents[1].0 * b;
+        let height = height + tangents[0].1 * a + tangents[1].1 * b;
+        let k = key(level, finest_cell(point, height), facing);
+        let cell = self.cache.levels[level as usize].get(&k)?;
+        let n = f64::from(cell.count);
+        (cell.count >= self.least).then(|| cell.total.map(|s| s / n))
     }
 }
 
