@@ -33,18 +33,19 @@ pub fn run(args: &CoverArgs) -> Result<(), CliError> {
     let total: u64 = cover.counts_by_depth.iter().sum();
     let mut out = output::stdout();
     if args.json {
-        let report = CoverJson {
-            signature: signature.to_string(),
-            geometry: signature.geometry().name(),
-            counts_by_depth: cover.counts_by_depth.clone(),
-            total,
+        let tiles = args
+            .tiles
+            .then(|| cover.tiles.iter().map(TileJson::from).collect());
+        let name = signature.to_string();
+        let geometry = signature.geometry().name();
+        write_json(
+            &mut out,
+            name,
+            geometry,
+            &cover.counts_by_depth,
             seconds,
-            tiles: args
-                .tiles
-                .then(|| cover.tiles.iter().map(TileJson::from).collect()),
-        };
-        serde_json::to_writer(&mut out, &report)?;
-        writeln!(out)?;
+            tiles,
+        )?;
     } else {
         write_text(&mut out, &signature, &cover, total, seconds)?;
     }
@@ -76,18 +77,19 @@ fn run_group(args: &CoverArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError> 
     let total: u64 = cover.counts_by_depth.iter().sum();
     let mut out = output::stdout();
     if args.json {
-        let report = CoverJson {
-            signature: symbol.to_string(),
-            geometry: symbol.geometry().name(),
-            counts_by_depth: cover.counts_by_depth.clone(),
-            total,
+        let tiles = args
+            .tiles
+            .then(|| cover.tiles.iter().map(TileJson::from).collect());
+        let name = symbol.to_string();
+        let geometry = symbol.geometry().name();
+        write_json(
+            &mut out,
+            name,
+            geometry,
+            &cover.counts_by_depth,
             seconds,
-            tiles: args
-                .tiles
-                .then(|| cover.tiles.iter().map(TileJson::from).collect()),
-        };
-        serde_json::to_writer(&mut out, &report)?;
-        writeln!(out)?;
+            tiles,
+        )?;
     } else {
         writeln!(
             out,
@@ -166,6 +168,29 @@ struct CoverJson {
     seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     tiles: Option<Vec<TileJson>>,
+}
+
+/// The `--json` report, one line: the same keys for reflection groups and groups with side
+/// pairings.
+fn write_json(
+    out: &mut impl Write,
+    signature: String,
+    geometry: &'static str,
+    counts_by_depth: &[u64],
+    seconds: f64,
+    tiles: Option<Vec<TileJson>>,
+) -> Result<(), CliError> {
+    let report = CoverJson {
+        signature,
+        geometry,
+        counts_by_depth: counts_by_depth.to_vec(),
+        total: counts_by_depth.iter().sum(),
+        seconds,
+        tiles,
+    };
+    serde_json::to_writer(&mut *out, &report)?;
+    writeln!(out)?;
+    Ok(())
 }
 
 fn write_text(
