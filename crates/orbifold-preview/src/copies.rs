@@ -10,6 +10,8 @@
 
 use glam::{DMat3, DVec3};
 use orbifold::cover::{Bound, Cover, CoverError, Tile, reflection};
+use orbifold::pairing::FundamentalPolygon;
+use orbifold::pairing::cover::GroupCover;
 use orbifold::{Geometry, Layout};
 use orbifold_scene::{Attenuation, Color};
 
@@ -50,13 +52,16 @@ pub fn copies(
     reflectances: &[Color],
     attenuation: Attenuation,
 ) -> Result<Vec<Copy>, CoverError> {
-    if layout.signature.kind() != orbifold::Kind::Orbifold {
-        return Ok(images(layout, depth, reflectances, attenuation));
-    }
     let bound = match layout.space().geometry() {
         Geometry::Spherical => Bound::All,
         _ => Bound::Depth(depth as usize),
     };
+    let Some(signature) = layout.signature() else {
+        return group_copies(layout, bound, reflectances, attenuation);
+    };
+    if signature.kind() != orbifold::Kind::Orbifold {
+        return Ok(images(layout, depth, reflectances, attenuation));
+    }
     let cover = Cover::enumerate_layout(layout.clone(), bound, true)?;
     let words = Words::new(layout);
     Ok(cover
@@ -67,6 +72,39 @@ pub fn copies(
             depth: tile.depth,
             reflected: tile.reflected,
             tint: tint(&words, tile, reflectances, attenuation),
+        })
+        .collect())
+}
+
+/// The copies of a room whose walls include portals: the tiles of its group (cone points,
+/// glides, handles, cross-caps), from the certified enumeration of
+/// [`GroupCover`](orbifold::pairing::cover::GroupCover). `reflectances[i]` is what wall i
+/// passes on: its mirrors' reflectance, or its portal's transmittance.
+fn group_copies(
+    layout: &Layout,
+    bound: Bound,
+    reflectances: &[Color],
+    attenuation: Attenuation,
+) -> Result<Vec<Copy>, CoverError> {
+    let polygon = FundamentalPolygon::from_layout(layout.symbol.clone(), layout.clone());
+    let cover = GroupCover::enumerate_polygon(polygon, bound, true)?;
+    let words = Words::new(layout);
+    Ok(cover
+        .tiles
+        .iter()
+        .map(|tile| {
+            let as_tile = Tile {
+                matrix: tile.matrix,
+                depth: tile.depth,
+                reflected: tile.reflected,
+                wall: tile.edge,
+            };
+            Copy {
+                matrix: tile.matrix,
+                depth: tile.depth,
+                reflected: tile.reflected,
+                tint: tint(&words, &as_tile, reflectances, attenuation),
+            }
         })
         .collect())
 }
@@ -163,19 +201,20 @@ fn tint(words: &Words, tile: &Tile, reflectances: &[Color], attenuation: Attenua
 /// ```
 pub struct Words {
     walls: Vec<DVec3>,
-    reflections: Vec<DMat3>,
+    /// The generators: the reflection in each mirror wall, the pairing of each portal.
+    neighbours: Vec<DMat3>,
     kappa: f64,
     /// An interior point of the room (ambient).
     centre: DVec3,
 }
 
 impl Words {
-    /// The word finder for the group of a polygon's walls.
+    /// The word finder for the group of a polygon's walls and pairings.
     pub fn new(layout: &Layout) -> Words {
         let space = layout.space();
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
         Words {
-            reflections: walls.iter().map(|&w| reflection(space, w)).collect(),
+            neighbours: layout.edges.iter().map(|e| e.neighbour).collect(),
             walls,
             kappa: space.kappa(),
             centre: space.to_ambient(layout.centre),
@@ -195,7 +234,8 @@ impl Words {
                 break;
             };
             letters.push(wall);
-            m *= self.reflections[wall as usize];
+            // Across wall i of the tile m lies the tile m·gᵢ (gᵢ the reflection or pairing).
+            m *= self.neighbours[wall as usize];
             next = None;
         }
         letters

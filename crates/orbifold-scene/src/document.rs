@@ -1,7 +1,7 @@
 //! The scene document: everything that describes one mirror room.
 
 use num_complex::Complex64;
-use orbifold::Signature;
+use orbifold::OrbifoldSymbol;
 use orbifold::layout::{Layout, LayoutOptions, Shape};
 use serde::{Deserialize, Serialize};
 
@@ -52,14 +52,16 @@ impl Scene {
         }
     }
 
-    /// The room's polygon.
+    /// The room's polygon: for a kaleidoscopic signature its polygon of mirrors, for every other
+    /// orbifold symbol (`632`, `22×`, `4*2`, `o`) its fundamental polygon, whose paired walls are
+    /// portals ([`Layout::of_symbol`]).
     pub fn layout(&self) -> Result<Layout, String> {
-        let signature: Signature = self
+        let symbol: OrbifoldSymbol = self
             .orbifold
             .signature
             .parse()
             .map_err(|e: orbifold::ParseError| e.to_string())?;
-        Layout::new(&signature, &self.layout_options()).map_err(|e| e.to_string())
+        Layout::of_symbol(&symbol, &self.layout_options()).map_err(|e| e.to_string())
     }
 }
 
@@ -150,6 +152,11 @@ pub struct Room {
     /// beyond the farthest finite corner).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cusp_distance: Option<f64>,
+    /// The width of the solid frame along the edges of a portal (a wall the orbifold's group
+    /// pairs with another), in intrinsic units; 0 for none.
+    pub portal_frame: f64,
+    /// The share of light a portal passes on, per channel.
+    pub portal_transmittance: Color,
 }
 
 /// The floor and ceiling tessellation method (see `orbifold::room`).
@@ -598,6 +605,8 @@ impl Default for Room {
             resolution: 0.1,
             tessellation: Tessellation::Contour,
             cusp_distance: None,
+            portal_frame: 0.02,
+            portal_transmittance: [1.0; 3],
         }
     }
 }

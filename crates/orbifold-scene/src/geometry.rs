@@ -84,10 +84,13 @@ pub const FARTHEST_EXPORTED: f64 = 1e3;
 pub const EXPORT_SCALE: f64 = 2.0;
 
 impl Scene {
-    /// The mirrors of wall `index`, as the file gives them or from the room's default.
+    /// The mirrors of wall `index`, as the file gives them or from the room's default. The
+    /// default (`[room] mirrors = "all"`) covers the walls that are mirrors of the orbifold; a
+    /// portal (a wall paired with another) has only the mirrors its `[[walls]]` entry gives.
     pub fn wall_mirrors(&self, index: usize) -> Vec<Mirror> {
         match self.walls.iter().find(|w| w.index == index) {
             Some(wall) => wall.mirrors.clone(),
+            None if self.is_portal(index) => Vec::new(),
             None => match self.room.mirrors {
                 MirrorDefault::All => vec![Mirror {
                     reflectance: self.room.reflectance,
@@ -96,6 +99,20 @@ impl Scene {
                 MirrorDefault::None => Vec::new(),
             },
         }
+    }
+
+    /// Whether wall `index` is a portal: the orbifold's group pairs it with another wall
+    /// (`false` for every wall of a kaleidoscopic signature, and when the layout fails).
+    pub fn is_portal(&self, index: usize) -> bool {
+        let kaleidoscopic = self
+            .orbifold
+            .signature
+            .parse::<orbifold::OrbifoldSymbol>()
+            .map_or(true, |s| s.as_kaleidoscopic().is_some());
+        !kaleidoscopic
+            && self
+                .layout()
+                .is_ok_and(|l| l.edges.get(index).is_some_and(|e| e.partner().is_some()))
     }
 
     /// The material of wall `index` where it has no mirror.
@@ -195,17 +212,29 @@ impl Scene {
                 surface: ceiling,
             },
         ];
-        for wall in 0..layout.edges.len() {
-            parts.extend(self.wall_parts(mesher, wall));
+        for (wall, edge) in layout.edges.iter().enumerate() {
+            parts.extend(self.wall_parts(mesher, wall, edge.partner().is_some()));
         }
         parts
     }
 
     /// A wall cut along every mirror's edges into a grid of cells; each cell is part of the first
-    /// mirror that covers it, or of the plain wall.
-    fn wall_parts(&self, mesher: &RoomMesher, wall: usize) -> Vec<Part> {
+    /// mirror that covers it, or of the plain wall. On a portal (`portal`: the group pairs the
+    /// wall with another) the plain wall is only the portal's frame, `room.portal_frame` wide
+    /// along its ends, floor and ceiling; the rest is open, and no part.
+    fn wall_parts(&self, mesher: &RoomMesher, wall: usize, portal: bool) -> Vec<Part> {
         let height = self.room.height;
         let mirrors = self.wall_mirrors(wall);
+        // The portal's opening, as fractions of the wall's length and heights.
+        let frame = self.room.portal_frame;
+        let length = mesher.wall_length(wall).unwrap_or(0.0);
+        let opening = (portal && length > 0.0).then(|| {
+            let f = if frame > 0.0 { frame / length } else { 0.0 };
+            (
+                [f.min(0.5), (1.0 - f).max(0.5)],
+                [frame.min(0.5 * height), (height - frame).max(0.5 * height)],
+            )
+        });
         let cuts = |values: &mut Vec<f64>| {
             values.sort_by(f64::total_cmp);
             values.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
@@ -215,6 +244,10 @@ impl Scene {
         for m in &mirrors {
             along.extend([m.from, m.to]);
             heights.extend([m.bottom, m.top.unwrap_or(height).min(height)]);
+        }
+        if let Some((a, h)) = opening {
+            along.extend(a);
+            heights.extend(h);
         }
         cuts(&mut along);
         cuts(&mut heights);
@@ -233,8 +266,11 @@ impl Scene {
                 let covering = mirrors.iter().position(|m| {
                     m.from <= s && s <= m.to && m.bottom <= t && t <= m.top.unwrap_or(height)
                 });
+                let open =
+                    opening.is_some_and(|(a, h)| a[0] < s && s < a[1] && h[0] < t && t < h[1]);
                 match covering {
                     Some(j) => glass[j].append(&cell),
+                    None if open => {}
                     None => plain.append(&cell),
                 }
             }

@@ -51,6 +51,20 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
     if let Some(d) = room.cusp_distance {
         positive(&mut p, "room.cusp_distance", d);
     }
+    if !(room.portal_frame.is_finite() && room.portal_frame >= 0.0) {
+        p.push((
+            "room.portal_frame".into(),
+            format!(
+                "the portals' frame must be a width of 0 or more, not {}",
+                room.portal_frame
+            ),
+        ));
+    }
+    unit_color(
+        &mut p,
+        "room.portal_transmittance",
+        &room.portal_transmittance,
+    );
     walls(&mut p, scene, layout.as_ref(), base);
     let inside = |at: [f64; 2]| layout.as_ref().is_none_or(|l| is_inside(l, at));
     for (i, o) in scene.objects.iter().enumerate() {

@@ -37,7 +37,7 @@ fn energy_per_window(signature: &str, seconds: f64, windows: &[(f64, f64)], tole
 
 /// The polygon's intrinsic area: 2π|χ| when curved (Gauss–Bonnet), the rectangle's in E².
 fn area(layout: &orbifold::Layout) -> f64 {
-    let chi = layout.signature.euler_characteristic().to_f64();
+    let chi = layout.symbol.euler_characteristic().to_f64();
     if layout.space().kappa() != 0.0 {
         return 2.0 * std::f64::consts::PI * chi.abs();
     }

@@ -207,6 +207,18 @@ impl Ray {
         }
     }
 
+    /// The ray going on past a mirror or a portal it has reached
+    /// ([`AnalyticRoom::passage`](crate::room::AnalyticRoom::passage)): reflected in the mirror,
+    /// or moved by the portal's pairing onto the partner wall (and renormalised, so that rounding
+    /// does not pile up over many crossings).
+    #[inline]
+    pub fn passed(&self, space: Space, passage: &crate::room::Passage) -> Ray {
+        if passage.mirror.is_some() {
+            return self.reflected(space, passage.mirror_form);
+        }
+        self.transformed(&passage.back, 0.0).renormalized(space)
+    }
+
     /// The ray moved by an ambient isometry matrix and raised by `height`.
     #[inline]
     pub fn transformed(&self, matrix: &DMat3, height: f64) -> Ray {

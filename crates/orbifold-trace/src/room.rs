@@ -8,9 +8,10 @@
 //! wall (as a fraction of the wall's meshed length, so that exports, the preview and the tracer
 //! agree) and its height.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 use orbifold::Layout;
+use orbifold::cover::reflection;
 use orbifold::room::RoomMesher;
 use orbifold::space::Space;
 use orbifold_scene::{Color, Scene};
@@ -85,6 +86,47 @@ impl MirrorRect {
     }
 }
 
+/// The default width of a portal's frame: the solid band along a portal's edges (its corners,
+/// floor and ceiling) that shows people where the room ends.
+pub const DEFAULT_PORTAL_FRAME: f64 = 0.02;
+
+/// A wall glued to another by the orbifold's group: what reaches it goes on from its partner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Portal {
+    /// The partner wall.
+    pub partner: usize,
+    /// g, with g(P) the tile across this wall (the layout edge's `neighbour`): what a path
+    /// that crosses it multiplies its chain of tiles by.
+    pub across: DMat3,
+    /// g⁻¹, the pairing that takes this wall onto the partner: what moves a ray that crosses.
+    pub back: DMat3,
+    /// Whether g reverses orientation (a glide reflection): left and right swap on the way.
+    pub reverses: bool,
+    /// The share of light it passes on, per channel.
+    pub transmittance: Color,
+    /// The width of the solid frame along its edges (intrinsic length; 0 for none).
+    pub frame: f64,
+}
+
+/// What a wall does at a point where a ray meets it, when the ray goes on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Passage {
+    /// The mirror's index on the wall, for a mirror; `None` for a portal.
+    pub mirror: Option<usize>,
+    /// The portal's partner wall, for a portal.
+    pub portal_to: Option<usize>,
+    /// What it passes on: the mirror's reflectance, or the portal's transmittance.
+    pub throughput: Color,
+    /// g: the tile the ray goes on into, in the universal cover, is g(P).
+    pub across: DMat3,
+    /// g⁻¹: the ray, moved back into the room, goes on as `back` × the ray.
+    pub back: DMat3,
+    /// Whether g reverses orientation (a mirror, or a glide).
+    pub reverses: bool,
+    /// The linear form of the geodesic a mirror reflects in ([`AnalyticRoom::wall_form_at`]).
+    pub mirror_form: DVec3,
+}
+
 /// One wall of the analytic room.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RoomWall {
@@ -101,6 +143,12 @@ pub struct RoomWall {
     pub closed: bool,
     /// Its mirrors; the first that covers a point wins.
     pub mirrors: Vec<MirrorRect>,
+    /// For a wall paired with another by the group, the portal (mirrors on it, if any, win).
+    pub portal: Option<Portal>,
+    /// The other walls on the same geodesic: a fundamental polygon may have a corner of angle π
+    /// (a cone point of order 2 halfway along a side), and a crossing of the line is then told
+    /// apart by where along it it lies.
+    pub same_line: Vec<usize>,
     /// Straight-ray mode ([`AnalyticRoom::flattened`]): the curved plane whose model this wall is
     /// drawn in. The room's own plane is then the flat one, the wall is the model curve of
     /// `form` (a circle or a line), and `start`, `tangent` and `length` are measured in the
@@ -205,10 +253,26 @@ impl AnalyticRoom {
                     length,
                     closed,
                     mirrors: mirrors.get(i).cloned().unwrap_or_default(),
+                    portal: edge.partner().map(|partner| Portal {
+                        partner,
+                        across: edge.neighbour,
+                        back: layout.edges[partner].neighbour,
+                        reverses: edge.neighbour.determinant() < 0.0,
+                        transmittance: [1.0; 3],
+                        frame: DEFAULT_PORTAL_FRAME,
+                    }),
+                    same_line: Vec::new(),
                     drawn_in: None,
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
+        let forms: Vec<DVec3> = walls.iter().map(|w| w.form).collect();
+        let mut walls = walls;
+        for (i, wall) in walls.iter_mut().enumerate() {
+            wall.same_line = (0..forms.len())
+                .filter(|&j| j != i && (forms[j] - forms[i]).length() < 1e-9)
+                .collect();
+        }
         Ok(AnalyticRoom {
             space,
             height,
@@ -216,8 +280,8 @@ impl AnalyticRoom {
         })
     }
 
-    /// The room with every wall a full mirror of the given reflectance (what `orbifold trace
-    /// SIG` uses).
+    /// The room with every mirror wall of the orbifold a full mirror of the given reflectance
+    /// and every paired wall a portal (what `orbifold trace SIG` uses).
     pub fn all_mirrors(
         layout: &Layout,
         height: f64,
@@ -230,7 +294,15 @@ impl AnalyticRoom {
             top: height,
             reflectance,
         };
-        AnalyticRoom::new(layout, height, None, &vec![vec![full]; layout.edges.len()])
+        let mirrors: Vec<Vec<MirrorRect>> = layout
+            .edges
+            .iter()
+            .map(|e| match e.partner() {
+                None => vec![full],
+                Some(_) => Vec::new(),
+            })
+            .collect();
+        AnalyticRoom::new(layout, height, None, &mirrors)
     }
 
     /// The room of a scene: its layout, height, cusp cut and the mirrors of every wall.
@@ -251,7 +323,78 @@ impl AnalyticRoom {
                     .collect()
             })
             .collect();
-        AnalyticRoom::new(layout, height, scene.room.cusp_distance, &mirrors)
+        let mut room = AnalyticRoom::new(layout, height, scene.room.cusp_distance, &mirrors)?;
+        for portal in room.walls.iter_mut().filter_map(|w| w.portal.as_mut()) {
+            portal.transmittance = scene.room.portal_transmittance;
+            portal.frame = scene.room.portal_frame;
+        }
+        Ok(room)
+    }
+
+    /// What wall `wall` does to a ray that meets it at `point`, `height`, if the ray goes on:
+    /// reflects it (a mirror there), or carries it through to the partner wall (a portal,
+    /// outside its frame). `None` where the wall is solid.
+    ///
+    /// ```
+    /// use orbifold::{Layout, LayoutOptions};
+    /// use orbifold_trace::room::AnalyticRoom;
+    /// let layout = Layout::of_symbol(&"632".parse()?, &LayoutOptions::default())?;
+    /// let room = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])?;
+    /// let wall = &room.walls[0];
+    /// let middle = room.space.exp(wall.start, wall.tangent * (0.5 * wall.length));
+    /// let passage = room.passage(0, middle, 0.5).unwrap();
+    /// // A rotation about a cone point: the ray goes on from the partner wall, unmirrored.
+    /// assert!(passage.mirror.is_none() && !passage.reverses);
+    /// assert_eq!(passage.portal_to, Some(room.walls[0].portal.unwrap().partner));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn passage(&self, wall: usize, point: DVec3, height: f64) -> Option<Passage> {
+        if let Some((index, mirror)) = self.mirror_at(wall, point, height) {
+            let form = self.wall_form_at(wall, point);
+            let reflection = reflection(self.space, form);
+            return Some(Passage {
+                mirror_form: form,
+                mirror: Some(index),
+                portal_to: None,
+                throughput: mirror.reflectance,
+                across: reflection,
+                back: reflection,
+                reverses: true,
+            });
+        }
+        let portal = self.walls[wall].portal?;
+        if self.in_portal_frame(wall, point, height) {
+            return None;
+        }
+        Some(Passage {
+            mirror: None,
+            portal_to: Some(portal.partner),
+            throughput: portal.transmittance,
+            across: portal.across,
+            back: portal.back,
+            reverses: portal.reverses,
+            mirror_form: self.walls[wall].form,
+        })
+    }
+
+    /// Whether a point of a portal wall lies on its solid frame: within the frame's width of
+    /// the wall's ends (intrinsic length along the wall), of the floor or of the ceiling.
+    pub fn in_portal_frame(&self, wall: usize, point: DVec3, height: f64) -> bool {
+        let w = &self.walls[wall];
+        let Some(portal) = w.portal else {
+            return false;
+        };
+        if portal.frame <= 0.0 {
+            return false;
+        }
+        if height < portal.frame || height > self.height - portal.frame {
+            return true;
+        }
+        if w.closed || !w.length.is_finite() {
+            return false;
+        }
+        let along = self.along(wall, point) * w.length;
+        along < portal.frame || along > w.length - portal.frame
     }
 
     /// Where a ray from inside the room leaves it: the nearest of the floor, the ceiling and the
@@ -326,6 +469,12 @@ impl AnalyticRoom {
             RoomSurface::Ceiling => self.height,
             RoomSurface::Wall(_) => height.clamp(0.0, self.height),
         };
+        let surface = match surface {
+            RoomSurface::Wall(i) if !self.walls[i].same_line.is_empty() => {
+                RoomSurface::Wall(self.wall_on_line_at(i, point))
+            }
+            other => other,
+        };
         Some(RoomHit {
             s,
             surface,
@@ -333,6 +482,20 @@ impl AnalyticRoom {
             tangent,
             height,
         })
+    }
+
+    /// Of wall `i` and the walls on its line, the one whose stretch holds `point` (a point of
+    /// the line): the crossing of walls that meet at a straight corner is the same for all of
+    /// them, and only where it lies along the line tells them apart.
+    fn wall_on_line_at(&self, i: usize, point: DVec3) -> usize {
+        let inside = |w: usize| {
+            let t = self.along(w, point);
+            t.min(1.0 - t)
+        };
+        std::iter::once(i)
+            .chain(self.walls[i].same_line.iter().copied())
+            .max_by(|&a, &b| inside(a).total_cmp(&inside(b)))
+            .unwrap_or(i)
     }
 
     /// Straight-ray mode: the horizontal distance σ along a flat ray at which it leaves the
@@ -403,6 +566,8 @@ impl AnalyticRoom {
                 .iter()
                 .map(|w| RoomWall {
                     drawn_in: Some(curved),
+                    // A pairing is an isometry of the curved plane, not of the flat picture.
+                    portal: None,
                     ..w.clone()
                 })
                 .collect(),

@@ -1,9 +1,11 @@
 //! Following rays through a mirror room: the analytic room, its mirrors and its objects.
 //!
-//! A ray runs until it meets a surface that is not a mirror, escapes (a horizontal ray running
-//! out through an ideal corner), or has been reflected `max_bounces` times (rays that approach an
-//! ideal corner bounce forever; they end here and go dark, as in the seed's Fig. 8.12). Each
-//! mirror multiplies the ray's throughput by its reflectance.
+//! A ray runs until it meets a surface that is not a mirror or a portal, escapes (a horizontal
+//! ray running out through an ideal corner), or has passed `max_bounces` mirrors and portals
+//! (rays that approach an ideal corner bounce forever; they end here and go dark, as in the
+//! seed's Fig. 8.12). Each mirror multiplies the ray's throughput by its reflectance, each
+//! portal by its transmittance; a portal sends the ray on from its partner wall
+//! ([`crate::room::Passage`]).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -78,9 +80,12 @@ pub struct PathHit {
     pub hit: Hit,
     /// For a mirror, its index on the wall.
     pub mirror: Option<usize>,
+    /// For a portal, the partner wall the ray went on from.
+    pub portal: Option<usize>,
     /// Arc length from the path's start.
     pub s: f64,
-    /// The product of the reflectances of the mirrors met so far, this one included.
+    /// The product of the reflectances of the mirrors and the transmittances of the portals
+    /// passed so far, this one included.
     pub throughput: Color,
 }
 
@@ -89,7 +94,7 @@ pub struct PathHit {
 pub enum PathEnd {
     /// At a surface that is not a mirror (the last hit).
     Surface,
-    /// After the largest number of mirror bounces allowed.
+    /// After the largest number of mirrors and portals allowed.
     BounceLimit,
     /// It left the room through an ideal corner without meeting anything.
     Escaped,
@@ -98,11 +103,11 @@ pub enum PathEnd {
 /// A ray followed through the mirrors.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TracedPath {
-    /// Every hit in order; mirrors first, then the surface where it ended (if any).
+    /// Every hit in order; mirrors and portals first, then the surface where it ended (if any).
     pub hits: Vec<PathHit>,
     /// How it ended.
     pub end: PathEnd,
-    /// The ray after its last mirror (what goes on from the last hit).
+    /// The ray after its last mirror or portal (what goes on from the last hit).
     pub last_ray: Ray,
 }
 
@@ -203,7 +208,7 @@ impl Tracer {
         })
     }
 
-    /// Follows a ray through at most `max_bounces` mirror reflections.
+    /// Follows a ray through at most `max_bounces` mirrors and portals.
     pub fn follow(&self, ray: &Ray, max_bounces: usize) -> TracedPath {
         let space = self.space();
         let mut ray = *ray;
@@ -219,17 +224,15 @@ impl Tracer {
                 };
             };
             travelled += hit.s;
-            let mirror = match hit.surface {
-                SurfaceId::Wall(w) => self
-                    .room
-                    .mirror_at(w, hit.point, hit.height)
-                    .map(|(j, m)| (w, j, m.reflectance)),
+            let passage = match hit.surface {
+                SurfaceId::Wall(w) => self.room.passage(w, hit.point, hit.height),
                 _ => None,
             };
-            let Some((wall, index, reflectance)) = mirror else {
+            let Some(passage) = passage else {
                 hits.push(PathHit {
                     hit,
                     mirror: None,
+                    portal: None,
                     s: travelled,
                     throughput,
                 });
@@ -246,18 +249,19 @@ impl Tracer {
                     last_ray: ray,
                 };
             }
-            for (t, r) in throughput.iter_mut().zip(reflectance) {
+            for (t, r) in throughput.iter_mut().zip(passage.throughput) {
                 *t *= r;
             }
             hits.push(PathHit {
                 hit,
-                mirror: Some(index),
+                mirror: passage.mirror,
+                portal: passage.portal_to,
                 s: travelled,
                 throughput,
             });
             ray = ray
                 .continued(space, hit.s, hit.point, hit.tangent)
-                .reflected(space, self.room.wall_form_at(wall, hit.point));
+                .passed(space, &passage);
         }
     }
 

@@ -273,7 +273,13 @@ impl Cover {
         bound: Bound,
         keep_tiles: bool,
     ) -> Result<Cover, CoverError> {
-        let signature = &layout.signature;
+        let Some(signature) = layout.signature() else {
+            return Err(CoverError::Layout(format!(
+                "{} has side pairings, not only mirrors; its cover is pairing::cover::GroupCover",
+                layout.symbol
+            )));
+        };
+        let signature = &signature;
         if signature.kind() != Kind::Orbifold {
             let why = signature
                 .reason()
@@ -289,7 +295,7 @@ impl Cover {
         }
         let space = Space::new(geometry);
         let walls: Vec<DVec3> = layout.edges.iter().map(|e| e.wall).collect();
-        let corners = Corners::new(&layout.signature);
+        let corners = Corners::new(signature);
         let mut search = Search::new(&corners, walls, space, bound, keep_tiles);
         search.run();
         if let Some(depth) = search.uncertain_at {

@@ -96,7 +96,7 @@ fn fan_area(layout: &Layout) -> f64 {
 /// Every invariant of ARCHITECTURE.md §5, for one layout.
 fn check(layout: &Layout) {
     let space = layout.space();
-    let name = layout.signature.to_string();
+    let name = layout.symbol.to_string();
     let n = layout.vertices.len();
     assert_eq!(layout.edges.len(), n.max(1));
     for (i, v) in layout.vertices.iter().enumerate() {
@@ -201,7 +201,7 @@ fn check(layout: &Layout) {
     }
     // Gauss–Bonnet: the area from the corners alone equals 2π|χ|.
     if space.kappa() != 0.0 && n >= 3 {
-        let expected = layout.signature.euler_characteristic().area();
+        let expected = layout.symbol.euler_characteristic().area();
         assert!((layout.area - expected).abs() <= 1e-12 * expected.max(1.0));
         let measured = fan_area(layout);
         assert!(

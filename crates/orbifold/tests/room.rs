@@ -21,7 +21,7 @@ fn mesher(sig: &str, options: &LayoutOptions, room: RoomOptions) -> (Layout, Roo
 /// Every check of a floor; `stretch` bounds the longest edge relative to the resolution.
 fn check_floor(layout: &Layout, mesher: &RoomMesher, floor: &Surface, stretch: f64) {
     let space = layout.space();
-    let sig = &layout.signature;
+    let sig = &layout.symbol;
     assert!(!floor.triangles.is_empty(), "{sig}: empty floor");
     // Inside: every vertex on the inner side of every wall.
     for p in &floor.points {
@@ -107,7 +107,7 @@ fn check_walls(layout: &Layout, mesher: &RoomMesher) {
             assert!(
                 edge.wall.dot(*p).abs() < 1e-13 * scale,
                 "{}: wall {i} vertex off the wall by {}",
-                layout.signature,
+                layout.symbol,
                 edge.wall.dot(*p)
             );
             assert!((-1e-12..=height + 1e-12).contains(h));
@@ -125,7 +125,7 @@ fn check_walls(layout: &Layout, mesher: &RoomMesher) {
         assert!(
             (area - expected).abs() < 1e-9 * expected,
             "{}: wall {i} area {area} vs {expected}",
-            layout.signature
+            layout.symbol
         );
         assert!(wall.quality(space).largest_edge <= mesher.options.resolution * 2f64.sqrt() + 1e-9);
     }
@@ -203,7 +203,7 @@ fn every_kind_of_room_meshes() {
 fn polygon_area_is_two_pi_chi() {
     for sig in ["*2223", "*333", "*236", "*22", "*"] {
         let (layout, mesher) = mesher(sig, &LayoutOptions::default(), RoomOptions::default());
-        let chi = layout.signature.euler_characteristic().to_f64();
+        let chi = layout.symbol.euler_characteristic().to_f64();
         if layout.geometry != Geometry::Euclidean {
             assert!(
                 (mesher.meshed_area() - 2.0 * std::f64::consts::PI * chi.abs()).abs() < 1e-9,

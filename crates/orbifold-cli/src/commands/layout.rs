@@ -136,8 +136,8 @@ fn draw(layout: &Layout, path: &Path, size: u32) -> Result<(), CliError> {
 }
 
 fn title(layout: &Layout) -> String {
-    let chi = layout.signature.euler_characteristic();
-    format!("{}   χ = {}   {}", layout.signature, chi, layout.geometry)
+    let chi = layout.symbol.euler_characteristic();
+    format!("{}   χ = {}   {}", layout.symbol, chi, layout.geometry)
 }
 
 fn number(x: f64) -> Option<f64> {
@@ -293,9 +293,9 @@ impl LayoutJson {
             }
         };
         LayoutJson {
-            signature: layout.signature.to_string(),
-            canonical: layout.signature.canonical().to_string(),
-            euler_characteristic: layout.signature.euler_characteristic().to_string(),
+            signature: layout.symbol.to_string(),
+            canonical: layout.symbol.canonical().to_string(),
+            euler_characteristic: layout.symbol.euler_characteristic().to_string(),
             geometry: layout.geometry.name(),
             model: layout.model_name(),
             shape: match options.shape {
@@ -324,7 +324,7 @@ fn write_text(out: &mut impl Write, layout: &Layout) -> std::io::Result<()> {
         "poincare" => "Poincaré disk",
         _ => "Euclidean plane",
     };
-    writeln!(out, "{}  {} ({model})", layout.signature, layout.geometry)?;
+    writeln!(out, "{}  {} ({model})", layout.symbol, layout.geometry)?;
     let params: Vec<String> = layout.parameters.iter().map(|p| format!("{p}")).collect();
     let params = if params.is_empty() {
         "none".to_string()

@@ -48,7 +48,7 @@ pub(crate) fn load(input: Option<&str>) -> Result<(Scene, Option<PathBuf>), CliE
         })?;
         return Ok((scene, path.parent().map(std::path::Path::to_path_buf)));
     }
-    let signature: orbifold::Signature = input
+    let signature: orbifold::OrbifoldSymbol = input
         .parse()
         .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
     let mut scene = Scene::default();

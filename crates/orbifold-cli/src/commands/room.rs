@@ -64,7 +64,7 @@ pub fn run(args: &RoomArgs) -> Result<(), CliError> {
     let (groups, omitted) = geometry.groups(&tiles);
     let title = format!(
         "orbifold room {} ({})",
-        geometry.layout.signature,
+        geometry.layout.symbol,
         geometry.layout.geometry.name()
     );
     let written = match format {
@@ -91,7 +91,7 @@ fn write_picture(geometry: &RoomGeometry, path: &Path) -> std::io::Result<Vec<st
     let points: Vec<_> = floor.points.iter().map(|&p| space.to_model(p)).collect();
     let title = format!(
         "{}: {} floor, {} triangles",
-        geometry.layout.signature,
+        geometry.layout.symbol,
         match geometry.mesher.options.method {
             orbifold::room::FloorMethod::Contour => "contour",
             orbifold::room::FloorMethod::Geodesic => "geodesic",
@@ -124,7 +124,7 @@ pub(crate) fn load(input: &str) -> Result<(Scene, Option<std::path::PathBuf>), C
         let base = path.parent().map(Path::to_path_buf);
         return Ok((scene, base));
     }
-    let signature: orbifold::Signature = input
+    let signature: orbifold::OrbifoldSymbol = input
         .parse()
         .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
     let mut scene = Scene::default();
@@ -218,7 +218,7 @@ fn report(
         }
     }
     RoomReport {
-        signature: geometry.layout.signature.to_string(),
+        signature: geometry.layout.symbol.to_string(),
         geometry: geometry.layout.geometry.name(),
         files: written.iter().map(|p| p.display().to_string()).collect(),
         resolution: mesher.options.resolution,

@@ -19,6 +19,10 @@ use crate::output;
 struct HitJson {
     surface: String,
     mirror: bool,
+    /// `mirror`, `portal` (the ray went on from wall `to`), or `surface` (where it ended).
+    kind: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    to: Option<usize>,
     x: f64,
     y: f64,
     h: f64,
@@ -83,6 +87,12 @@ pub fn run(args: &TraceArgs) -> Result<(), CliError> {
             HitJson {
                 surface: tracer.surface_name(h.hit.surface),
                 mirror: h.mirror.is_some(),
+                kind: match (h.mirror, h.portal) {
+                    (Some(_), _) => "mirror",
+                    (None, Some(_)) => "portal",
+                    (None, None) => "surface",
+                },
+                to: h.portal,
                 x: z.re,
                 y: z.im,
                 h: h.hit.height,
@@ -104,7 +114,7 @@ pub fn run(args: &TraceArgs) -> Result<(), CliError> {
         writeln!(
             out,
             "{}  {}  from ({}, {}) at height {}, yaw {}°, pitch {}°",
-            tracer.layout.signature,
+            tracer.layout.symbol,
             tracer.layout.model_name(),
             camera.at[0],
             camera.at[1],
@@ -114,16 +124,20 @@ pub fn run(args: &TraceArgs) -> Result<(), CliError> {
         )?;
         writeln!(
             out,
-            "{:>4}  {:<16} {:<7} {:>12} {:>12} {:>10} {:>12}",
-            "#", "surface", "mirror", "x", "y", "h", "s"
+            "{:>4}  {:<16} {:<9} {:>12} {:>12} {:>10} {:>12}",
+            "#", "surface", "passes", "x", "y", "h", "s"
         )?;
         for (k, h) in hits.iter().enumerate() {
             writeln!(
                 out,
-                "{:>4}  {:<16} {:<7} {:>12.8} {:>12.8} {:>10.6} {:>12.8}",
+                "{:>4}  {:<16} {:<9} {:>12.8} {:>12.8} {:>10.6} {:>12.8}",
                 k + 1,
                 h.surface,
-                if h.mirror { "mirror" } else { "-" },
+                match h.to {
+                    Some(to) => format!("→ wall {to}"),
+                    None if h.mirror => "mirror".into(),
+                    None => "-".into(),
+                },
                 h.x,
                 h.y,
                 h.h,
@@ -150,7 +164,7 @@ fn check_inside(tracer: &Tracer, scene: &Scene) -> Result<(), CliError> {
         return Err(CliError::Input(format!(
             "the start ({x}, {y}) at height {} is not inside the room of {} (the polygon of \
              `orbifold layout`, heights 0 to {})",
-            scene.camera.height, tracer.layout.signature, tracer.room.height
+            scene.camera.height, tracer.layout.symbol, tracer.room.height
         )));
     }
     Ok(())

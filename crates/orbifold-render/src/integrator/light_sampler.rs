@@ -272,13 +272,14 @@ impl Integrator {
                     carried = 0.0;
                     break;
                 };
-                carried *= room
-                    .mirror_at(w, exit.point, exit.height)
-                    .map_or(0.0, |(_, m)| luminance(m.reflectance));
+                let Some(passage) = room.passage(w, exit.point, exit.height) else {
+                    carried = 0.0;
+                    break;
+                };
+                carried *= luminance(passage.throughput);
                 travelled += exit.s;
-                let form = room.wall_form_at(w, exit.point);
-                ray =
-                    (ray.continued(space, exit.s, exit.point, exit.tangent)).reflected(space, form);
+                ray = (ray.continued(space, exit.s, exit.point, exit.tangent))
+                    .passed(space, &passage);
             }
             sum += carried;
         }

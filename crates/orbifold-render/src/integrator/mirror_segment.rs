@@ -1,10 +1,11 @@
-//! Following a ray through the room's mirrors. A **mirror segment** is the part of a path from
-//! one scattering vertex (or the camera) to the next thing that is not a mirror: geodesic
-//! stretches joined by mirror reflections. Mirrors are perfectly specular, and reflecting in one
-//! is an isometry of the room, so they are not path vertices: the ray is followed through them
-//! deterministically, each mirror's reflectance multiplying the segment's throughput and each
-//! wall's reflection its `chain`, the product that says which mirror image of the room the
-//! segment ends in (the light sampler finds the light's image from it).
+//! Following a ray through the room's mirrors and portals. A **mirror segment** is the part of a
+//! path from one scattering vertex (or the camera) to the next thing that is not a mirror or a
+//! portal: geodesic stretches joined by mirror reflections and portal crossings. Both are
+//! isometries of the plane ([`orbifold_trace::room::Passage`]), so they are not path vertices:
+//! the ray is followed through them deterministically, each one's reflectance or transmittance
+//! multiplying the segment's throughput and its group element g its `chain`, the product that
+//! says which tile of the universal cover the segment ends in (the light sampler finds the
+//! light's image from it).
 //!
 //! Camera and bounce rays look for the nearest hit; a light sample's connection is a shadow
 //! segment, which only asks whether anything but mirrors is in the way (an any-hit search).
@@ -20,7 +21,7 @@ use orbifold_trace::tracer::SurfaceId;
 
 use super::ray_footprint::RayFootprint;
 use super::{Integrator, mul, scale};
-use crate::lights::{Emitter, Rgb, reflection_matrix};
+use crate::lights::{Emitter, Rgb};
 use crate::sampler::Sampler;
 
 /// The most mirror reflections on one straight stretch of a path (rays that run into an ideal
@@ -246,20 +247,19 @@ impl Integrator {
                 }
                 return segment;
             };
-            let mirror = match hit.kind {
-                HitKind::Surface(SurfaceId::Wall(w), _) => self
-                    .tracer
-                    .room
-                    .mirror_at(w, hit.point, hit.height)
-                    .map(|(_, m)| (w, m.reflectance)),
+            let passage = match hit.kind {
+                HitKind::Surface(SurfaceId::Wall(w), _) => {
+                    self.tracer.room.passage(w, hit.point, hit.height)
+                }
                 _ => None,
             };
-            let Some((wall, reflectance)) = mirror else {
+            let Some(passage) = passage else {
                 segment.end = SegmentEnd::Hit(hit);
                 segment.rest = hit.s;
                 segment.length += hit.s;
                 return segment;
             };
+            let reflectance = passage.throughput;
             segment.throughput = mul(segment.throughput, reflectance);
             if let Some((sampler, beta, level)) = roulette.as_mut() {
                 let carried = *beta * luminance(segment.throughput);
@@ -274,13 +274,14 @@ impl Integrator {
                     segment.throughput = scale(segment.throughput, 1.0 / survive);
                 }
             }
-            let form = self.tracer.room.wall_form_at(wall, hit.point);
-            carried = carried.map(|f| f.reflected());
-            segment.chain *= reflection_matrix(space, form);
+            if passage.reverses {
+                carried = carried.map(|f| f.reflected());
+            }
+            segment.chain *= passage.across;
             segment.length += hit.s;
             segment.ray = (segment.ray)
                 .continued(space, hit.s, hit.point, hit.tangent)
-                .reflected(space, form);
+                .passed(space, &passage);
         }
         segment
     }

@@ -1,7 +1,9 @@
 //! The mirror images of a light, through which it lights the room.
 //!
 //! A light seen in a chain of mirrors is, unfolded, the light moved by the product of the walls'
-//! reflections: the image g·y in the tile g·P of the room's universal cover. A connection to an
+//! reflections: the image g·y in the tile g·P of the room's universal cover. Through a portal the
+//! same holds with the portal's pairing in place of a reflection (ARCHITECTURE.md §11), so images
+//! are enumerated across mirrors and portals alike. A connection to an
 //! image, followed in the real room, bounces off those walls and arrives at the light; it counts
 //! only if every wall it meets on the way is a mirror there, nothing blocks it, and it really
 //! arrives (the tracer checks all three). Images are enumerated once per room, breadth first
@@ -88,17 +90,25 @@ impl ImageSet {
             .max(room.height)
             .max(1e-3);
         let reference = spread(space, radius, radius);
-        // Each mirror wall's reflection and the most any of its mirrors reflects, per channel.
+        // Each wall a path can cross: a mirror wall's reflection and the most any of its mirrors
+        // reflects, per channel; a portal's pairing g (the tile across it is g(P)) and its
+        // transmittance. A wall with mirrors on part of a portal is both.
         let mirrors: Vec<(DMat3, Rgb)> = room
             .walls
             .iter()
             // A wall drawn as a model circle (straight rays) is no isometry's mirror.
             .filter(|w| w.drawn_in.is_none())
-            .filter_map(|w| {
+            .flat_map(|w| {
                 let best = w.mirrors.iter().fold([0.0f64; 3], |acc, m| {
                     [0, 1, 2].map(|c| acc[c].max(m.reflectance[c]))
                 });
-                (luminance(best) > 0.0).then(|| (reflection_matrix(space, w.form), best))
+                let mirror =
+                    (luminance(best) > 0.0).then(|| (reflection_matrix(space, w.form), best));
+                let portal = w
+                    .portal
+                    .filter(|p| luminance(p.transmittance) > 0.0)
+                    .map(|p| (p.across, p.transmittance));
+                mirror.into_iter().chain(portal)
             })
             .collect();
         let mut set = ImageSet {

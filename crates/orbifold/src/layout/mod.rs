@@ -27,12 +27,15 @@ pub mod incircle;
 use std::f64::consts::PI;
 use std::fmt;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use num_complex::Complex64;
 
+use crate::conway::OrbifoldSymbol;
+use crate::cover::reflection;
 use crate::euler::Geometry;
 use crate::isometry::Isometry;
 use crate::order::Order;
+use crate::pairing::{EdgeKind, FundamentalPolygon};
 use crate::signature::{Kind, Signature};
 use crate::space::{ModelGeodesic, Space};
 
@@ -157,9 +160,11 @@ impl std::error::Error for LayoutError {}
 pub struct Vertex {
     /// Model coordinates (on the unit circle for an ideal corner).
     pub position: Complex64,
-    /// The corner's order k.
+    /// The corner's order k: for a kaleidoscopic signature the corner's own; for a polygon with
+    /// side pairings, the order of the orbifold point the corner lies on (its vertex cycle's).
     pub order: Order,
-    /// The corner angle π/k, in radians (0 for an ideal corner).
+    /// The corner angle in radians: π/k for a kaleidoscopic signature, 0 for an ideal corner;
+    /// for a polygon with side pairings, the corner's own share of its cycle's angle.
     pub angle: f64,
     /// Whether the corner is ideal: at infinity, where its two walls are tangent.
     pub ideal: bool,
@@ -178,6 +183,22 @@ pub struct Edge {
     pub wall: DVec3,
     /// The wall as a circle or a line in model coordinates.
     pub geodesic: ModelGeodesic,
+    /// A mirror, or paired with another edge (ARCHITECTURE.md §11): every edge of a
+    /// kaleidoscopic signature is a mirror.
+    pub kind: EdgeKind,
+    /// The group element g with g(P) the tile across this edge: the reflection in it for a
+    /// mirror; for an edge paired with j, the isometry that takes edge j onto this edge.
+    pub neighbour: DMat3,
+}
+
+impl Edge {
+    /// The partner edge of a paired edge; `None` for a mirror.
+    pub fn partner(&self) -> Option<usize> {
+        match self.kind {
+            EdgeKind::Mirror => None,
+            EdgeKind::Paired { partner } => Some(partner),
+        }
+    }
 }
 
 /// What the free parameters of a polygon mean.
@@ -187,6 +208,9 @@ pub enum ParameterMeaning {
     None,
     /// `*2222`: the length of wall 0 divided by the length of wall 1.
     AspectRatio,
+    /// A polygon with side pairings: the parameters of its fundamental polygon
+    /// ([`FundamentalPolygon::parameter_meanings`]).
+    SidePairing,
     /// Hyperbolic N ≥ 4: parameter j (1-based, j = 1 … N−3) scales the distance cⱼ between
     /// wall N−1 and wall j (the length of their common perpendicular) relative to the balanced
     /// polygon: cⱼ = c⁰ⱼ · pⱼ^(1/8). All parameters 1 give the incircle polygon.
@@ -201,6 +225,10 @@ impl ParameterMeaning {
             ParameterMeaning::AspectRatio => {
                 "the length of wall 0 divided by the length of wall 1".into()
             }
+            ParameterMeaning::SidePairing => {
+                "the fundamental polygon's shape parameters (`orbifold layout SYMBOL` describes each)"
+                    .into()
+            }
             ParameterMeaning::WallDistances => format!(
                 "parameter j (j = 1…{}) sets the distance between wall {} and wall j to its value in the balanced \
                  (incircle) polygon times the 8th root of the parameter; all 1 is the incircle polygon",
@@ -211,11 +239,15 @@ impl ParameterMeaning {
     }
 }
 
-/// The polygon of a signature: vertices, walls, free parameters, placed in model coordinates.
+/// The polygon of a room: vertices, walls, how the walls are joined (mirrors, or side
+/// pairings), free parameters, placed in model coordinates. For a kaleidoscopic signature every
+/// wall is a mirror ([`Layout::new`]); for every other orbifold symbol it is the fundamental
+/// polygon of [`FundamentalPolygon`], whose paired walls are portals ([`Layout::of_symbol`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
-    /// The signature, in the reading it was given (vertex i has the i-th order).
-    pub signature: Signature,
+    /// The symbol, in the reading it was given (for a kaleidoscopic signature, vertex i has the
+    /// i-th order).
+    pub symbol: OrbifoldSymbol,
     /// Spherical, Euclidean or hyperbolic.
     pub geometry: Geometry,
     /// The corners, counter-clockwise.
@@ -236,6 +268,39 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// The kaleidoscopic signature, for a polygon of mirrors (`None` for a polygon with side
+    /// pairings).
+    pub fn signature(&self) -> Option<Signature> {
+        self.symbol.as_kaleidoscopic()
+    }
+
+    /// Whether every wall is a mirror (a kaleidoscopic signature).
+    pub fn is_kaleidoscopic(&self) -> bool {
+        self.edges.iter().all(|e| e.kind == EdgeKind::Mirror)
+    }
+
+    /// The room's polygon for any orbifold symbol: [`Layout::new`] for a kaleidoscopic one,
+    /// otherwise the fundamental polygon of [`FundamentalPolygon::new`] with its side pairings.
+    ///
+    /// ```
+    /// use orbifold::{Layout, LayoutOptions};
+    /// let layout = Layout::of_symbol(&"632".parse()?, &LayoutOptions::default())?;
+    /// // Two copies of the triangle of *632, glued along their edges by the rotations.
+    /// assert_eq!(layout.edges.len(), 4);
+    /// assert!(layout.edges.iter().all(|e| e.partner().is_some()));
+    /// assert!(layout.signature().is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn of_symbol(
+        symbol: &OrbifoldSymbol,
+        options: &LayoutOptions,
+    ) -> Result<Layout, LayoutError> {
+        match symbol.as_kaleidoscopic() {
+            Some(signature) => Layout::new(&signature, options),
+            None => Ok(FundamentalPolygon::new(symbol, options)?.room_layout(options.angle)),
+        }
+    }
+
     /// Lays out the polygon of `signature`.
     pub fn new(signature: &Signature, options: &LayoutOptions) -> Result<Layout, LayoutError> {
         if !signature.is_buildable() {
@@ -486,7 +551,7 @@ impl RawPolygon {
         let edges = edges(space, &vertices, &walls);
         let area = polygon_area(space, signature, &vertices);
         Layout {
-            signature: signature.clone(),
+            symbol: signature.clone().into(),
             geometry: space.geometry(),
             vertices,
             edges,
@@ -508,6 +573,8 @@ fn edges(space: Space, vertices: &[Vertex], walls: &[DVec3]) -> Vec<Edge> {
             length: 2.0 * PI,
             wall: walls[0],
             geodesic: space.model_geodesic(walls[0]),
+            kind: EdgeKind::Mirror,
+            neighbour: reflection(space, walls[0]),
         }];
     }
     (0..n)
@@ -526,6 +593,8 @@ fn edges(space: Space, vertices: &[Vertex], walls: &[DVec3]) -> Vec<Edge> {
                 length,
                 wall: walls[i],
                 geodesic: space.model_geodesic(walls[i]),
+                kind: EdgeKind::Mirror,
+                neighbour: reflection(space, walls[i]),
             }
         })
         .collect()

@@ -165,6 +165,9 @@ pub enum Construction {
     Parallelogram,
     /// The general star around a centre ([`star`]).
     Star,
+    /// A room layout given back ([`FundamentalPolygon::from_layout`]), whose construction is
+    /// not recorded.
+    Given,
 }
 
 impl Construction {
@@ -178,6 +181,7 @@ impl Construction {
             Construction::Lune => "lune",
             Construction::Parallelogram => "parallelogram",
             Construction::Star => "star",
+            Construction::Given => "given polygon",
         }
     }
 }
@@ -299,13 +303,14 @@ impl FundamentalPolygon {
         finish(symbol, space, draft, motion.matrix())
     }
 
-    /// Wraps a kaleidoscopic layout (any, non-orbifold rooms too): every edge a mirror, every
-    /// corner its own cycle.
+    /// Wraps a layout: a kaleidoscopic one (any, non-orbifold rooms too: every edge a mirror,
+    /// every corner its own cycle), or the room layout of a polygon with side pairings
+    /// ([`FundamentalPolygon::room_layout`], whose cycles are walked again).
     ///
     /// ```
     /// use orbifold::{Layout, pairing::FundamentalPolygon};
     /// let layout = Layout::new(&"*2333".parse().unwrap(), &Default::default()).unwrap();
-    /// let p = FundamentalPolygon::from_layout(layout.signature.clone().into(), layout);
+    /// let p = FundamentalPolygon::from_layout(layout.symbol.clone(), layout);
     /// assert_eq!(p.cycles.len(), 4);
     /// ```
     pub fn from_layout(symbol: OrbifoldSymbol, layout: Layout) -> FundamentalPolygon {
@@ -324,33 +329,40 @@ impl FundamentalPolygon {
                 ideal: v.ideal,
             })
             .collect();
-        let edges = layout
+        let edges: Vec<Edge> = layout
             .edges
             .iter()
             .map(|e| Edge {
                 from: e.from,
                 to: e.to,
                 wall: e.wall,
-                kind: EdgeKind::Mirror,
-                neighbour: reflection(space, e.wall),
+                kind: e.kind,
+                neighbour: e.neighbour,
             })
             .collect();
-        let cycles = layout
-            .vertices
-            .iter()
-            .enumerate()
-            .map(|(i, v)| Cycle {
-                vertices: vec![i],
-                kind: if v.ideal {
-                    CycleKind::Ideal
-                } else {
-                    CycleKind::Corner
-                },
-                order: v.order,
-                angle_sum: v.angle,
-                closed: false,
-            })
-            .collect();
+        let cycles = if layout.is_kaleidoscopic() {
+            layout
+                .vertices
+                .iter()
+                .enumerate()
+                .map(|(i, v)| Cycle {
+                    vertices: vec![i],
+                    kind: if v.ideal {
+                        CycleKind::Ideal
+                    } else {
+                        CycleKind::Corner
+                    },
+                    order: v.order,
+                    angle_sum: v.angle,
+                    closed: false,
+                })
+                .collect()
+        } else {
+            // A room layout of a polygon with side pairings: its corners carry their cycles'
+            // orders, from which the cycles are walked again.
+            let orders: Vec<Order> = layout.vertices.iter().map(|v| v.order).collect();
+            cycles::cycles(&vertices, &edges, &orders)
+        };
         let meanings = (0..layout.parameters.len())
             .map(|_| layout.parameter_meaning.describe(layout.vertices.len()))
             .collect();
@@ -365,7 +377,11 @@ impl FundamentalPolygon {
             cycles,
             parameters: layout.parameters.clone(),
             parameter_meanings: meanings,
-            construction: Construction::Kaleidoscopic,
+            construction: if layout.is_kaleidoscopic() {
+                Construction::Kaleidoscopic
+            } else {
+                Construction::Given
+            },
             area: layout.area,
             centre: layout.centre,
             layout: Some(layout),
@@ -375,6 +391,80 @@ impl FundamentalPolygon {
     /// The curvature κ of the model.
     pub fn space(&self) -> Space {
         Space::new(self.geometry)
+    }
+
+    /// The polygon as a room's [`Layout`]: its corners (each with its cycle's order), walls with
+    /// their lengths, mirrors and pairings, area and centre; `heading` is the placement angle the
+    /// polygon was built with. A kaleidoscopic polygon gives back its own layout.
+    ///
+    /// ```
+    /// use orbifold::pairing::{EdgeKind, FundamentalPolygon};
+    /// let p = FundamentalPolygon::new(&"4*2".parse()?, &Default::default())?;
+    /// let layout = p.room_layout(0.0);
+    /// assert_eq!(layout.edges.len(), p.edges.len());
+    /// assert!((layout.area - p.area).abs() < 1e-12);
+    /// assert!(layout.edges.iter().any(|e| e.kind == EdgeKind::Mirror));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn room_layout(&self, heading: f64) -> Layout {
+        if let Some(layout) = &self.layout {
+            return layout.clone();
+        }
+        let space = self.space();
+        let n = self.vertices.len();
+        let cycle_order = |i: usize| {
+            self.cycles
+                .iter()
+                .find(|c| c.vertices.contains(&i))
+                .map_or(Order::integer(1), |c| c.order)
+        };
+        let vertices: Vec<crate::layout::Vertex> = self
+            .vertices
+            .iter()
+            .enumerate()
+            .map(|(i, v)| crate::layout::Vertex {
+                position: v.position,
+                order: cycle_order(i),
+                angle: v.angle,
+                ideal: v.ideal,
+            })
+            .collect();
+        let edges = self
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let (a, b) = (&self.vertices[i], &self.vertices[(i + 1) % n]);
+                let length = if a.ideal || b.ideal {
+                    f64::INFINITY
+                } else if space.kappa() > 0.0 && n == 2 {
+                    // A lune's sides join antipodal corners: half a great circle.
+                    std::f64::consts::PI
+                } else {
+                    space.ambient_distance(a.ambient, b.ambient)
+                };
+                crate::layout::Edge {
+                    from: e.from,
+                    to: e.to,
+                    length,
+                    wall: e.wall,
+                    geodesic: space.model_geodesic(e.wall),
+                    kind: e.kind,
+                    neighbour: e.neighbour,
+                }
+            })
+            .collect();
+        Layout {
+            symbol: self.symbol.clone(),
+            geometry: self.geometry,
+            vertices,
+            edges,
+            parameters: self.parameters.clone(),
+            parameter_meaning: crate::layout::ParameterMeaning::SidePairing,
+            area: self.area,
+            centre: self.centre,
+            heading,
+        }
     }
 
     /// The generator `neighbour(i)` as an [`Isometry`].
