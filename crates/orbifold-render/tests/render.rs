@@ -146,6 +146,50 @@ fn light_sampling_through_mirrors_agrees_with_brute_force() {
     }
 }
 
+/// A room of an orbifold with side pairings: grey mirror walls without mirrors, open portals
+/// (with their frames), the sphere light and camera of [`scene`]; with `partial_mirrors`, the
+/// partial mirror of [`scene`] on every wall, portals included, and portals passing on 70 %.
+fn portal_scene(symbol: &str, partial_mirrors: bool) -> Scene {
+    let mut scene = scene(symbol, LightKind::Sphere);
+    if !partial_mirrors {
+        scene.walls.clear();
+    } else {
+        scene.room.portal_transmittance = [0.7; 3];
+    }
+    scene
+}
+
+#[test]
+fn light_sampling_through_portals_agrees_with_brute_force() {
+    // Light reaches the room through portals as through mirrors: light sampling draws the
+    // light's images under the group's pairings, and brute force finds the light by chance
+    // through the same portals. Cone points (632, 3*2 on the sphere, 4*3 in H²) and glides
+    // (22×), with portals open and with mirrors hung on them.
+    for (symbol, partial_mirrors) in [("632", false), ("22×", true), ("3*2", false), ("4*3", true)] {
+        let what = format!("{symbol}, mirrors on the portals: {partial_mirrors}");
+        assert_nee_agrees_with_brute_force(&portal_scene(symbol, partial_mirrors), &what);
+    }
+}
+
+#[test]
+fn point_lights_light_the_room_through_portals() {
+    // Only light sampling finds a point light, so only its images under the group's pairings
+    // carry its light through the portals: closed portals (transmittance 0) leave the room
+    // darker, and with open ones the point light lights the room as a tiny sphere light of the
+    // same power does (found both ways).
+    for symbol in ["632", "22×", "3*2", "4*3"] {
+        let mut open = portal_scene(symbol, false);
+        open.lights[0].kind = LightKind::Point;
+        open.room.wall_material = Material::Color { color: [0.0; 3] };
+        let mut closed = open.clone();
+        closed.room.portal_transmittance = [0.0; 3];
+        let (a, _) = mean_and_error(&image(&open, true, 16, 3));
+        let (b, _) = mean_and_error(&image(&closed, true, 16, 3));
+        assert!(a > 1.2 * b && b > 0.0, "{symbol}: open {a}, closed {b}");
+        assert_point_light_lights_as_a_tiny_sphere(open, symbol, 128);
+    }
+}
+
 #[test]
 fn light_sampling_agrees_with_brute_force_on_smooth_shaded_objects() {
     // Smooth shading normals differ from the faces' own: both estimators must treat the
