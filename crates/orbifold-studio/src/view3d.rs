@@ -8,6 +8,7 @@
 
 use egui::{Color32, Ui};
 use num_complex::Complex64;
+use orbifold::Layout;
 use orbifold::space::Space;
 use orbifold_preview::{Gpu, Preview, Projection};
 use orbifold_scene::{Attenuation, Camera, Scene};
@@ -170,7 +171,7 @@ impl View3d {
         if forward != 0.0
             && let Ok(layout) = scene.layout()
         {
-            walk(layout.space(), &mut self.camera, forward * WALK_SPEED * dt);
+            walk_through_portals(&layout, &mut self.camera, forward * WALK_SPEED * dt);
         }
         if forward != 0.0 || turn != 0.0 || tilt != 0.0 {
             self.moving = true;
@@ -330,6 +331,40 @@ pub fn walk(space: Space, camera: &mut Camera, distance: f64) {
     let direction = space.direction(z2, space.to_model(ahead));
     camera.at = [z2.re, z2.im];
     camera.yaw = direction.arg().to_degrees();
+}
+
+/// [`walk`], and through a portal when the step crosses one: a camera that leaves the room
+/// across a wall the orbifold's group pairs with another comes back in through the partner wall,
+/// its heading moved by the pairing ([`Layout::carried_inside`]). (Through a glide the view is
+/// then the unmirrored one: a camera has no handedness to carry.)
+///
+/// ```
+/// use orbifold::{Layout, LayoutOptions};
+/// use orbifold_scene::Camera;
+/// let layout = Layout::of_symbol(&"632".parse()?, &LayoutOptions::default())?;
+/// let mut camera = Camera { at: [0.0, 0.0], yaw: 10.0, ..Camera::default() };
+/// for _ in 0..100 {
+///     orbifold_studio::view3d::walk_through_portals(&layout, &mut camera, 0.05);
+/// }
+/// // Five units walked, and still in the room.
+/// let p = layout.space().to_ambient(num_complex::Complex64::new(camera.at[0], camera.at[1]));
+/// assert!(layout.edges.iter().all(|e| e.wall.dot(p) > -1e-9));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn walk_through_portals(layout: &Layout, camera: &mut Camera, distance: f64) {
+    let space = layout.space();
+    walk(space, camera, distance);
+    let z = Complex64::new(camera.at[0], camera.at[1]);
+    let p = space.to_ambient(z);
+    let v = space.model_tangent(z, Complex64::from_polar(1.0, camera.yaw.to_radians()));
+    let (q, u) = layout.carried_inside(p, v, 1e-12);
+    if q == p {
+        return;
+    }
+    let z2 = space.to_model(q);
+    let ahead = space.to_model(space.exp(q, u * 1e-6));
+    camera.at = [z2.re, z2.im];
+    camera.yaw = space.direction(z2, ahead).arg().to_degrees();
 }
 
 /// The attenuation's name in the menu.

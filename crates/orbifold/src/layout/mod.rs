@@ -301,6 +301,47 @@ impl Layout {
         }
     }
 
+    /// A point of the plane and a tangent vector there, brought back into the polygon through
+    /// its portals: while the point lies beyond a paired wall (by more than `slack` in the
+    /// wall's linear form), both are moved by the pairing that takes that wall onto its partner
+    /// (at most once per wall, so that it always ends). What a person walking through a portal
+    /// sees happen; mirror walls are left alone. Ambient coordinates.
+    ///
+    /// ```
+    /// use orbifold::{Layout, LayoutOptions};
+    /// use glam::DVec3;
+    /// let layout = Layout::of_symbol(&"o".parse()?, &LayoutOptions::default())?;
+    /// let space = layout.space();
+    /// let wall = layout.edges[0].wall;
+    /// // A step past wall 0, from a point just inside it.
+    /// let outside = space.to_ambient(num_complex::Complex64::new(0.0, 0.0)) - DVec3::new(wall.x, wall.y, 0.0) * (wall.z + 0.01);
+    /// let (back, _) = layout.carried_inside(outside, DVec3::X, 1e-12);
+    /// assert!(layout.edges.iter().all(|e| e.wall.dot(back) > -1e-9));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn carried_inside(&self, point: DVec3, tangent: DVec3, slack: f64) -> (DVec3, DVec3) {
+        let (mut p, mut v) = (point, tangent);
+        for _ in 0..self.edges.len() {
+            let beyond = self
+                .edges
+                .iter()
+                .enumerate()
+                .filter(|(_, e)| e.partner().is_some())
+                .map(|(i, e)| (i, e.wall.dot(p)))
+                .filter(|&(_, value)| value < -slack)
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let Some((i, _)) = beyond else {
+                break;
+            };
+            let Some(partner) = self.edges[i].partner() else {
+                break;
+            };
+            let back = self.edges[partner].neighbour;
+            (p, v) = (back * p, back * v);
+        }
+        (p, v)
+    }
+
     /// Lays out the polygon of `signature`.
     pub fn new(signature: &Signature, options: &LayoutOptions) -> Result<Layout, LayoutError> {
         if !signature.is_buildable() {
