@@ -203,7 +203,7 @@ impl Report {
             row(
                 out,
                 "rooms",
-                "only kaleidoscopic orbifolds *k₁…k_N are built into mirror rooms",
+                "mirror edges are mirror walls, paired edges portals (`orbifold info` describes the pairings)",
             )?;
         }
         Ok(())

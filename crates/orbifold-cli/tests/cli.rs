@@ -141,7 +141,7 @@ fn info_explains_conway_symbols() {
         .success()
         .stdout(predicate::str::contains("p6 (Conway 632)"))
         .stdout(predicate::str::contains("6-fold gyration point"))
-        .stdout(predicate::str::contains("only kaleidoscopic orbifolds"));
+        .stdout(predicate::str::contains("paired edges as portals"));
     let v = json(&["info", "--json", "2*22", "22×", "o", "532"]);
     assert_eq!(v[0]["group"]["name"], "cmm");
     assert_eq!(v[0]["notation"], "conway");
@@ -315,4 +315,85 @@ fn closed_pipe_is_not_a_panic() {
         .unwrap();
     assert!(output.status.success());
     assert!(!String::from_utf8_lossy(&output.stderr).contains("panicked"));
+}
+
+#[test]
+fn rays_pass_through_portals_and_say_so() {
+    // 632 has no mirrors: every wall is a portal, and a horizontal ray crosses them until the
+    // limit, each crossing naming the wall it goes on from.
+    let v = json(&[
+        "trace",
+        "632",
+        "--from",
+        "0,0,0.5",
+        "--yaw",
+        "20",
+        "--pitch",
+        "0",
+        "--bounces",
+        "5",
+        "--json",
+    ]);
+    let hits = v["hits"].as_array().unwrap();
+    assert_eq!(hits.len(), 5);
+    assert_eq!(v["end"], "bounce limit");
+    for hit in hits {
+        assert_eq!(hit["kind"], "portal");
+        assert_eq!(hit["mirror"], false);
+        assert!(hit["to"].as_u64().is_some(), "{hit}");
+    }
+    // 4*2 has a mirror beside its portals.
+    let v = json(&[
+        "trace",
+        "4*2",
+        "--from",
+        "0,0,0.5",
+        "--yaw",
+        "100",
+        "--pitch",
+        "0",
+        "--bounces",
+        "12",
+        "--json",
+    ]);
+    let kinds: Vec<&str> = v["hits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h["kind"].as_str().unwrap())
+        .collect();
+    assert!(
+        kinds.iter().all(|k| ["mirror", "portal"].contains(k)),
+        "{kinds:?}"
+    );
+}
+
+#[test]
+fn rooms_with_portals_render_and_export_with_their_group() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("632.png");
+    orbifold()
+        .args(["render", "632", "--spp", "1", "--size", "16x12", "-o"])
+        .arg(&png)
+        .assert()
+        .success();
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    // The room of 22× with its copies under the group up to word length 2: every tile of the
+    // group's cover but the room itself.
+    let obj = dir.path().join("22x.obj");
+    let v = json(&[
+        "room",
+        "22×",
+        "--cover",
+        "2",
+        "--json",
+        "-o",
+        obj.to_str().unwrap(),
+    ]);
+    let cover = json(&["cover", "22×", "--depth", "2", "--json"]);
+    assert_eq!(
+        v["copies"].as_u64().unwrap() + 1,
+        cover["total"].as_u64().unwrap(),
+        "{v} {cover}"
+    );
 }

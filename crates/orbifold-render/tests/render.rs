@@ -165,7 +165,8 @@ fn light_sampling_through_portals_agrees_with_brute_force() {
     // light's images under the group's pairings, and brute force finds the light by chance
     // through the same portals. Cone points (632, 3*2 on the sphere, 4*3 in H²) and glides
     // (22×), with portals open and with mirrors hung on them.
-    for (symbol, partial_mirrors) in [("632", false), ("22×", true), ("3*2", false), ("4*3", true)] {
+    for (symbol, partial_mirrors) in [("632", false), ("22×", true), ("3*2", false), ("4*3", true)]
+    {
         let what = format!("{symbol}, mirrors on the portals: {partial_mirrors}");
         assert_nee_agrees_with_brute_force(&portal_scene(symbol, partial_mirrors), &what);
     }

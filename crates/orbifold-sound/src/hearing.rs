@@ -53,6 +53,14 @@ impl Hearing {
             return Err(SoundError::Scene(all.join("; ")));
         }
         let layout = scene.layout().map_err(SoundError::Scene)?;
+        if !layout.is_kaleidoscopic() {
+            // The image sources are those of the reflection group; a room with portals would
+            // need the images under its pairings too, which the echoes do not follow yet.
+            return Err(SoundError::Scene(format!(
+                "{} has portals (walls paired by its group); only rooms of mirrors *k₁…k_N are heard so far",
+                layout.symbol
+            )));
+        }
         let room = AnalyticRoom::from_scene(scene, &layout).map_err(SoundError::Scene)?;
         let space = room.space;
         let (source, listener) = places(scene).map_err(SoundError::Scene)?;

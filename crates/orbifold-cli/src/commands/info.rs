@@ -122,7 +122,7 @@ fn write_text(
     row(
         out,
         "rooms",
-        "only kaleidoscopic orbifolds *k₁…k_N are built into mirror rooms so far; \
-         `orbifold layout` and `orbifold cover` take this symbol (its paired edges would be portals)",
+        "the room over this polygon has its mirror edges as mirror walls and its paired edges as \
+         portals: `orbifold render`, `trace`, `room`, `preview` and the studio take this symbol",
     )
 }

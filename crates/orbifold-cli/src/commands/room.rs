@@ -4,7 +4,9 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use orbifold::cover::{Bound, Cover};
+use orbifold::cover::{Bound, Cover, Tile};
+use orbifold::pairing::FundamentalPolygon;
+use orbifold::pairing::cover::GroupCover;
 use orbifold::room::Quality;
 use orbifold_scene::Scene;
 use orbifold_scene::document::Tessellation;
@@ -41,11 +43,7 @@ pub fn run(args: &RoomArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let geometry = scene.geometry(base.as_deref()).map_err(CliError::Input)?;
     let tiles = match args.cover {
-        Some(depth) => {
-            Cover::enumerate_layout(geometry.layout.clone(), Bound::Depth(depth), true)
-                .map_err(|e| CliError::Input(e.to_string()))?
-                .tiles
-        }
+        Some(depth) => cover_tiles(&geometry.layout, depth)?,
         None => Vec::new(),
     };
     let room_triangles: usize = geometry
@@ -110,6 +108,31 @@ fn write_picture(geometry: &RoomGeometry, path: &Path) -> std::io::Result<Vec<st
     };
     orbifold_scene::write_atomic(path, &bytes)?;
     Ok(vec![path.to_path_buf()])
+}
+
+/// The tiles of the room's group up to word length `depth`: its reflection group's for a
+/// polygon of mirrors, the group of its side pairings otherwise.
+fn cover_tiles(layout: &orbifold::Layout, depth: usize) -> Result<Vec<Tile>, CliError> {
+    let error = |e: orbifold::cover::CoverError| CliError::Input(e.to_string());
+    if layout.is_kaleidoscopic() {
+        return Ok(
+            Cover::enumerate_layout(layout.clone(), Bound::Depth(depth), true)
+                .map_err(error)?
+                .tiles,
+        );
+    }
+    let polygon = FundamentalPolygon::from_layout(layout.symbol.clone(), layout.clone());
+    let cover = GroupCover::enumerate_polygon(polygon, Bound::Depth(depth), true).map_err(error)?;
+    Ok(cover
+        .tiles
+        .iter()
+        .map(|t| Tile {
+            matrix: t.matrix,
+            depth: t.depth,
+            reflected: t.reflected,
+            wall: t.edge,
+        })
+        .collect())
 }
 
 /// The scene of a `.toml` file (and its directory, for relative paths) or of a bare signature
