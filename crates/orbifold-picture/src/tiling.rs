@@ -215,6 +215,14 @@ impl Fold {
 /// assert_eq!(picture.rgba.len(), 64 * 64 * 4);
 /// ```
 pub fn render(layout: &Layout, view: &View, motif: Option<&Motif>) -> Result<Picture, String> {
+    if !layout.is_kaleidoscopic() {
+        // A room layout with portals: its group's tiling, folded through the pairings.
+        let polygon = orbifold::pairing::FundamentalPolygon::from_layout(
+            layout.symbol.clone(),
+            layout.clone(),
+        );
+        return crate::group::render_group(&polygon, view, motif);
+    }
     if !view.model.shows(layout.geometry) {
         return Err(format!(
             "the {:?} model does not show the {} plane",

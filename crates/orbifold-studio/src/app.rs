@@ -267,6 +267,15 @@ impl Studio {
                 // New walls: the old free parameters and per-wall settings no longer fit.
                 scene.orbifold.parameters.clear();
                 scene.walls.clear();
+                // The incircle shape is a polygon of mirrors' only.
+                let kaleidoscopic = scene
+                    .orbifold
+                    .signature
+                    .parse::<orbifold::OrbifoldSymbol>()
+                    .is_ok_and(|s| s.as_kaleidoscopic().is_some());
+                if !kaleidoscopic {
+                    scene.orbifold.shape = orbifold_scene::ShapeName::Default;
+                }
                 if let Ok(layout) = scene.layout() {
                     let c = layout.centre;
                     scene.objects.iter_mut().for_each(|o| o.at = [c.re, c.im]);

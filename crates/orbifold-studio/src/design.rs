@@ -7,7 +7,7 @@
 //! `*233` → `*333` → `*2333` (the seed's sequence) is a few clicks.
 
 use egui::{Color32, Pos2, Stroke, Ui, Vec2};
-use orbifold::{Kind, Signature};
+use orbifold::{Kind, OrbifoldSymbol, Signature};
 
 /// A corner's order: a real number > 1 (integers for orbifolds), or ∞ (an ideal corner).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,11 +111,42 @@ pub struct Summary {
     pub kind: String,
 }
 
-/// The summary of a signature in the notation, or the parse error.
+/// The summary of a symbol in the notation, or the parse error: a kaleidoscopic signature, or
+/// any orbifold symbol in Conway's notation (`632`, `22×`), whose room has portals.
+///
+/// ```
+/// use orbifold_studio::design::summary;
+/// let s = summary("22×").unwrap();
+/// assert_eq!(s.geometry, "euclidean");
+/// assert!(s.kind.contains("portal"), "{}", s.kind);
+/// ```
 pub fn summary(text: &str) -> Result<Summary, String> {
-    let signature: Signature = text
+    let symbol: OrbifoldSymbol = text
         .parse()
         .map_err(|e: orbifold::ParseError| e.to_string())?;
+    let Some(signature) = symbol.as_kaleidoscopic() else {
+        let kind = match symbol.reason() {
+            Some(reason) => format!("bad orbifold: {reason}"),
+            None => match orbifold::Layout::of_symbol(&symbol, &Default::default()) {
+                Ok(layout) => {
+                    let portals = layout
+                        .edges
+                        .iter()
+                        .filter(|e| e.partner().is_some())
+                        .count();
+                    let mirrors = layout.edges.len() - portals;
+                    format!("orbifold: a room of {portals} portals and {mirrors} mirrors")
+                }
+                Err(e) => format!("orbifold, not built: {e}"),
+            },
+        };
+        return Ok(Summary {
+            canonical: symbol.canonical().to_string(),
+            chi: symbol.euler_characteristic().to_string(),
+            geometry: symbol.geometry().name().to_string(),
+            kind,
+        });
+    };
     let kind = match signature.kind() {
         Kind::Orbifold => "orbifold".to_string(),
         Kind::Bad => format!(

@@ -142,6 +142,31 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     (next != *scene).then_some(next)
 }
 
+/// Where the arrow on portal `i` goes and which way it points (screen units): at the middle of
+/// the wall's drawn points, along it, so that the pairing takes the partner's arrow onto this
+/// one's, as textbooks draw side pairings. The lower of the pair points from its first corner to
+/// its second; the pairing takes the partner's first corner to this wall's second one, unless it
+/// reverses orientation (a glide), which keeps them.
+fn portal_arrow(layout: &Layout, i: usize, points: &[Pos2]) -> Option<(Pos2, Vec2)> {
+    let partner = layout.edges[i].partner()?;
+    let forward = if i <= partner {
+        true
+    } else {
+        layout.edges[partner].neighbour.determinant() < 0.0
+    };
+    let middle = points.len() / 2;
+    let (a, b) = (
+        points.get(middle.saturating_sub(1))?,
+        points.get(middle.max(1))?,
+    );
+    let along = (*b - *a).normalized();
+    if !along.is_finite() {
+        return None;
+    }
+    let at = a.lerp(*b, 0.5);
+    Some((at, if forward { along } else { -along }))
+}
+
 /// The walls a free parameter controls, and the cut between them (model points along their
 /// common perpendicular), for parameter `j` (0-based).
 pub fn parameter_cut(layout: &Layout, j: usize) -> (Vec<usize>, Vec<Complex64>) {
@@ -205,10 +230,31 @@ fn draw(ui: &mut Ui, layout: &Layout, scene: &mut Scene, highlight: Option<usize
     for i in 0..layout.edges.len() {
         let points: Vec<Pos2> = wall_points(layout, i).into_iter().map(to_screen).collect();
         let width = if controlled.contains(&i) { 5.0 } else { 2.5 };
-        painter.add(egui::Shape::line(
-            points,
-            Stroke::new(width, wall_colour(i)),
-        ));
+        match layout.edges[i].partner() {
+            None => {
+                painter.add(egui::Shape::line(
+                    points,
+                    Stroke::new(width, wall_colour(i)),
+                ));
+            }
+            Some(partner) => {
+                // A portal: dashed, in the colour of its pair, with the textbooks' arrow.
+                let colour = wall_colour(i.min(partner));
+                painter.add(egui::Shape::dashed_line(
+                    &points,
+                    Stroke::new(width, colour),
+                    7.0,
+                    4.0,
+                ));
+                if let Some((at, direction)) = portal_arrow(layout, i, &points) {
+                    painter.arrow(
+                        at - direction * 7.0,
+                        direction * 14.0,
+                        Stroke::new(2.5, colour),
+                    );
+                }
+            }
+        }
     }
     if !cut.is_empty() {
         let points: Vec<Pos2> = cut.into_iter().map(to_screen).collect();

@@ -379,3 +379,41 @@ fn the_tiling_tab_matches_its_snapshot() {
     harness.run();
     harness.snapshot_options("studio-tiling-2333", &tolerant());
 }
+
+#[test]
+fn a_conway_symbol_typed_in_the_design_panel_builds_a_room_with_portals() {
+    let mut harness = harness(Scene::default());
+    let field = harness.get_by_role_and_label(Role::TextInput, "signature");
+    field.focus();
+    harness.run();
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    harness
+        .get_by_role_and_label(Role::TextInput, "signature")
+        .type_text("632");
+    harness.run();
+    harness.key_press(egui::Key::Enter);
+    harness.run();
+    let scene = harness.state().document.scene().clone();
+    assert_eq!(scene.orbifold.signature, "632");
+    let layout = scene.layout().unwrap();
+    assert!(layout.edges.iter().all(|e| e.partner().is_some()));
+    // The panel says what the room is made of, and the things stand inside it.
+    assert!(
+        harness
+            .query_all_by_label_contains("4 portals and 0 mirrors")
+            .next()
+            .is_some()
+    );
+    let inside = |at: [f64; 2]| {
+        let p = layout
+            .space()
+            .to_ambient(num_complex::Complex64::new(at[0], at[1]));
+        layout.edges.iter().all(|e| e.wall.dot(p) > 0.0)
+    };
+    assert!(scene.objects.iter().all(|o| inside(o.at)));
+    assert!(inside(scene.camera.at) || inside(harness.state().view.camera.at));
+    // The tiling tab draws the group's tiling.
+    harness.get_by_label("tiling").click();
+    harness.run();
+    assert_eq!(harness.state().tab, Tab::Tiling);
+}

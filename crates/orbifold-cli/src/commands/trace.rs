@@ -146,7 +146,9 @@ pub fn run(args: &TraceArgs) -> Result<(), CliError> {
         }
         let why = match path.end {
             PathEnd::Surface => "at the last surface".to_string(),
-            PathEnd::BounceLimit => format!("after {} mirrors and portals (--bounces)", args.bounces),
+            PathEnd::BounceLimit => {
+                format!("after {} mirrors and portals (--bounces)", args.bounces)
+            }
             PathEnd::Escaped => "running out through an ideal corner".to_string(),
         };
         writeln!(out, "ended {why}")?;
