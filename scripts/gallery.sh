@@ -4,9 +4,9 @@
 #
 # Usage: scripts/gallery.sh [--size WxH] [--spp N] [--time-limit S] [--only GLOB] [--force]
 #                           [--no-build]
-#   --size WxH        image size (default 256x192)
+#   --size WxH        image size (default 640x480)
 #   --spp N           samples per pixel (default 64)
-#   --time-limit S    stop a picture after S seconds, at the end of the pass under way (default 12)
+#   --time-limit S    stop a picture after S seconds, at the end of the pass under way (default 15)
 #   --only GLOB       only the scenes whose name (the file's stem) matches GLOB, e.g. 'fig-8.1*'
 #   --force           render again even where the picture exists and is newer than its scene
 #   --no-build        use target/release/orbifold as it is (by default `cargo build --release`
@@ -21,9 +21,9 @@
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-size=256x192
+size=640x480
 spp=64
-limit=12
+limit=15
 only='*'
 force=0
 build=1

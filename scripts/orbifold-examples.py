@@ -49,9 +49,11 @@ def scene(binary, symbol, title, comment):
     far = max(corners, key=lambda z: abs(z - c))
     near = min(corners, key=lambda z: abs(z - c))
     # The camera a third of the way to the farthest corner, looking back past the centre at the
-    # letter, which stands a quarter of the way to the nearest corner.
+    # letter, which stands on the other side of the centre, a quarter of the nearest corner's
+    # distance away.
     eye = c + (far - c) * 0.3
-    letter = c + (near - c) * 0.25
+    away = (c - far) / abs(c - far)
+    letter = c + away * abs(near - c) * 0.25
     yaw = math.degrees(math.atan2((letter - eye).imag, (letter - eye).real))
     size = min(0.35, 0.5 * abs(near - c)) if data["geometry"] != "euclidean" else 0.3
     return f"""# {title}: the orbifold {symbol} ({data.get('construction', 'kaleidoscopic')} polygon). {comment}
