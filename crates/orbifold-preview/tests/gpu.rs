@@ -211,6 +211,35 @@ fn the_copies_drawn_are_the_tiles_up_to_the_depth() {
     }
 }
 
+#[test]
+fn the_copies_of_a_room_with_portals_are_the_tiles_of_its_group() {
+    // Cone points, a glide, a mirror boundary: the preview draws the group's tiles up to the
+    // depth (all of a spherical group's), as the certified cover counts them.
+    let Some(gpu) = gpu() else { return };
+    let mut preview = Preview::new(gpu);
+    for (symbol, depth) in [("632", 4), ("22×", 5), ("4*3", 3), ("332", 2), ("3*2", 2)] {
+        let scene = scene(symbol, depth);
+        preview.load(&scene, None).unwrap();
+        let mut settings = preview.settings();
+        settings.cull = false;
+        settings.lod = false;
+        preview.set_settings(settings).unwrap();
+        preview.render(64, 48).unwrap();
+        let parsed: orbifold::OrbifoldSymbol = symbol.parse().unwrap();
+        let bound = if parsed.geometry() == Geometry::Spherical {
+            orbifold::cover::Bound::All
+        } else {
+            orbifold::cover::Bound::Depth(depth as usize)
+        };
+        let cover = orbifold::pairing::cover::GroupCover::enumerate(&parsed, bound, false).unwrap();
+        let expected: u64 = cover.counts_by_depth.iter().sum();
+        assert_eq!(preview.stats().copies as u64, expected, "{symbol}");
+        if let Some(order) = parsed.group_order() {
+            assert_eq!(expected as u128, order, "{symbol}: the whole spherical group");
+        }
+    }
+}
+
 /// The share of pixels whose surface ids agree.
 fn agreement(a: &orbifold_preview::Frame, b: &orbifold_preview::Frame) -> f64 {
     let same = a.ids.iter().zip(&b.ids).filter(|(x, y)| x == y).count();
