@@ -473,6 +473,11 @@ pub struct Camera {
     pub pitch: f64,
     /// Vertical field of view, degrees (pinhole).
     pub fov: f64,
+    /// Whether the camera sees the world mirrored, left and right swapped: what a person sees
+    /// after walking through a glide reflection's portal (an odd number of them), so that the
+    /// view goes on without a jump. Written only when true.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub mirrored: bool,
 }
 
 impl Camera {
@@ -500,7 +505,10 @@ impl Camera {
             .cross(DVec3::Z)
             .try_normalize()
             .unwrap_or(DVec3::new(yaw.sin(), -yaw.cos(), 0.0));
-        [forward, right, right.cross(forward)]
+        let up = right.cross(forward);
+        // A mirrored camera's right is the world's left: the picture is swapped left for right.
+        let right = if self.mirrored { -right } else { right };
+        [forward, right, up]
     }
 }
 
@@ -514,6 +522,7 @@ impl Default for Camera {
             // Looking a little down, at the figure in the middle of the default room.
             pitch: -20.0,
             fov: 70.0,
+            mirrored: false,
         }
     }
 }

@@ -335,8 +335,8 @@ pub fn walk(space: Space, camera: &mut Camera, distance: f64) {
 
 /// [`walk`], and through a portal when the step crosses one: a camera that leaves the room
 /// across a wall the orbifold's group pairs with another comes back in through the partner wall,
-/// its heading moved by the pairing ([`Layout::carried_inside`]). (Through a glide the view is
-/// then the unmirrored one: a camera has no handedness to carry.)
+/// its heading moved by the pairing ([`Layout::carried_inside`]); through a glide it comes out
+/// mirrored (left and right swapped), so that the view goes on without a jump.
 ///
 /// ```
 /// use orbifold::{Layout, LayoutOptions};
@@ -349,6 +349,8 @@ pub fn walk(space: Space, camera: &mut Camera, distance: f64) {
 /// // Five units walked, and still in the room.
 /// let p = layout.space().to_ambient(num_complex::Complex64::new(camera.at[0], camera.at[1]));
 /// assert!(layout.edges.iter().all(|e| e.wall.dot(p) > -1e-9));
+/// // 632 has no glides: the view is never mirrored.
+/// assert!(!camera.mirrored);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn walk_through_portals(layout: &Layout, camera: &mut Camera, distance: f64) {
@@ -357,10 +359,11 @@ pub fn walk_through_portals(layout: &Layout, camera: &mut Camera, distance: f64)
     let z = Complex64::new(camera.at[0], camera.at[1]);
     let p = space.to_ambient(z);
     let v = space.model_tangent(z, Complex64::from_polar(1.0, camera.yaw.to_radians()));
-    let (q, u) = layout.carried_inside(p, v, 1e-12);
+    let (q, u, glided) = layout.carried_inside(p, v, 1e-12);
     if q == p {
         return;
     }
+    camera.mirrored ^= glided;
     let z2 = space.to_model(q);
     let ahead = space.to_model(space.exp(q, u * 1e-6));
     camera.at = [z2.re, z2.im];

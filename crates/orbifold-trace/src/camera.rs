@@ -40,6 +40,8 @@ pub struct Camera {
     frame: [DVec3; 2],
     kind: CameraKind,
     yaw: f64,
+    /// Left and right swapped ([`CameraSettings::mirrored`]).
+    mirrored: bool,
     forward: DVec3,
     right: DVec3,
     up: DVec3,
@@ -62,6 +64,7 @@ impl Camera {
             ],
             kind: settings.kind,
             yaw,
+            mirrored: settings.mirrored,
             forward,
             right,
             up,
@@ -137,7 +140,9 @@ impl Camera {
                 (self.forward + a * self.right + b * self.up).normalize()
             }
             CameraKind::Panorama => {
-                let bearing = self.yaw + PI - 2.0 * PI * u;
+                // Left to right turning clockwise; a mirrored camera's, anticlockwise.
+                let turn = PI - 2.0 * PI * u;
+                let bearing = self.yaw + if self.mirrored { -turn } else { turn };
                 let elevation = 0.5 * PI - PI * v;
                 DVec3::new(
                     elevation.cos() * bearing.cos(),

@@ -305,7 +305,9 @@ impl Layout {
     /// its portals: while the point lies beyond a paired wall (by more than `slack` in the
     /// wall's linear form), both are moved by the pairing that takes that wall onto its partner
     /// (at most once per wall, so that it always ends). What a person walking through a portal
-    /// sees happen; mirror walls are left alone. Ambient coordinates.
+    /// sees happen; mirror walls are left alone. Ambient coordinates. The flag says whether the
+    /// pairings applied reverse orientation in all (an odd number of glides): the walker then
+    /// sees the world mirrored.
     ///
     /// ```
     /// use orbifold::{Layout, LayoutOptions};
@@ -315,12 +317,13 @@ impl Layout {
     /// let wall = layout.edges[0].wall;
     /// // A step past wall 0, from a point just inside it.
     /// let outside = space.to_ambient(num_complex::Complex64::new(0.0, 0.0)) - DVec3::new(wall.x, wall.y, 0.0) * (wall.z + 0.01);
-    /// let (back, _) = layout.carried_inside(outside, DVec3::X, 1e-12);
+    /// let (back, _, mirrored) = layout.carried_inside(outside, DVec3::X, 1e-12);
+    /// assert!(!mirrored);
     /// assert!(layout.edges.iter().all(|e| e.wall.dot(back) > -1e-9));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn carried_inside(&self, point: DVec3, tangent: DVec3, slack: f64) -> (DVec3, DVec3) {
-        let (mut p, mut v) = (point, tangent);
+    pub fn carried_inside(&self, point: DVec3, tangent: DVec3, slack: f64) -> (DVec3, DVec3, bool) {
+        let (mut p, mut v, mut mirrored) = (point, tangent, false);
         for _ in 0..self.edges.len() {
             let beyond = self
                 .edges
@@ -338,8 +341,9 @@ impl Layout {
             };
             let back = self.edges[partner].neighbour;
             (p, v) = (back * p, back * v);
+            mirrored ^= back.determinant() < 0.0;
         }
-        (p, v)
+        (p, v, mirrored)
     }
 
     /// Lays out the polygon of `signature`.
