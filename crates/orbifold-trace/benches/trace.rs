@@ -1,7 +1,8 @@
 //! Benchmarks of the curved-ray tracing core. Run with `cargo bench -p orbifold-trace --bench trace`.
 //!
 //! - `room exit`: where a camera ray leaves the analytic room (closed form).
-//! - `follow`: a ray through up to 16 mirror reflections.
+//! - `follow`: a ray through up to 16 mirror reflections (or portal crossings, in the rooms of
+//!   `632`, `22×`, `2223` and `oo`, whose walls are portals).
 //! - `bvh build` and `bvh traverse`: a model of `../shared/models/` (the teapot and the bunny when
 //!   present, else the built-in torus), embedded 1 unit across, with the 89,644 rays of the seed's
 //!   Table 8.2, single-threaded; κ = 0 is the same code with straight rays.
@@ -43,8 +44,12 @@ fn rooms(c: &mut Criterion) {
         "*2223",
         "*∞∞∞",
         "*23456789(10)(11)",
+        "632",
+        "22×",
+        "2223",
+        "oo",
     ] {
-        let layout = Layout::new(&sig.parse().unwrap(), &LayoutOptions::default()).unwrap();
+        let layout = Layout::of_symbol(&sig.parse().unwrap(), &LayoutOptions::default()).unwrap();
         let tracer = Tracer::mirror_room(layout, 1.0).unwrap();
         let rays = camera_rays(&tracer, 64);
         group.throughput(Throughput::Elements(rays.len() as u64));
