@@ -393,3 +393,40 @@ fn a_signature_only_file_opens_with_the_camera_in_the_room() {
     assert_eq!(harness.state().document.path(), Some(file.as_path()));
     assert_eq!(harness.state().view.error, None);
 }
+
+#[test]
+fn without_file_dialogs_a_picked_file_is_typed_in_the_studio_s_own_window() {
+    let tmp = folder("typed");
+    let mesh = tmp.path().join("tetrahedron.obj");
+    std::fs::write(&mesh, TETRAHEDRON).unwrap();
+    let png = tmp.path().join("wood.png");
+    write_png(&png);
+    let studio = Studio::new(Document::with_scene(Scene::default(), None, None), None);
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1440.0, 1600.0))
+        .build_ui_state(|ui, studio: &mut Studio| studio.ui(ui), studio);
+    let type_in = |harness: &mut Harness<'static, Studio>, path: &Path, action: &str| {
+        harness
+            .get_by_role_and_label(Role::TextInput, "file")
+            .set_text_value_accesskit(path.to_str().unwrap());
+        harness.run();
+        harness.get_by_label(action).click();
+        harness.run();
+    };
+    harness.get_by_label("pick mesh…").click();
+    harness.run();
+    type_in(&mut harness, &mesh, "Add mesh");
+    assert_eq!(
+        harness.state().document.scene().objects[1].mesh.as_deref(),
+        mesh.to_str()
+    );
+    harness.get_by_label("floor: image").click();
+    harness.run();
+    harness.get_by_label("pick floor image…").click();
+    harness.run();
+    type_in(&mut harness, &png, "Use image");
+    assert!(matches!(
+        &harness.state().document.scene().room.floor,
+        Material::Texture { path, .. } if Path::new(path) == png
+    ));
+}
