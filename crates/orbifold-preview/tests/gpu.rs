@@ -235,7 +235,10 @@ fn the_copies_of_a_room_with_portals_are_the_tiles_of_its_group() {
         let expected: u64 = cover.counts_by_depth.iter().sum();
         assert_eq!(preview.stats().copies as u64, expected, "{symbol}");
         if let Some(order) = parsed.group_order() {
-            assert_eq!(expected as u128, order, "{symbol}: the whole spherical group");
+            assert_eq!(
+                expected as u128, order,
+                "{symbol}: the whole spherical group"
+            );
         }
     }
 }

@@ -141,7 +141,7 @@ impl Scene {
     /// use orbifold_scene::Scene;
     /// let scene = Scene::for_signature("*2∞3").unwrap();
     /// assert!(scene.check(None).is_ok());
-    /// assert!(Scene::for_signature("*2x").is_err());
+    /// assert!(Scene::for_signature("*23").is_err()); // a bad orbifold: no room
     /// ```
     pub fn for_signature(signature: &str) -> Result<Scene, String> {
         let mut scene = Scene {

@@ -159,3 +159,28 @@ proptest! {
         check_placed(&signature);
     }
 }
+
+/// Conway symbols of every kind: cones, a mirror boundary with corners, cross-caps or handles.
+fn symbol() -> impl Strategy<Value = String> {
+    (
+        prop::collection::vec(order(), 0..=3),
+        prop::option::of(prop::collection::vec(order(), 0..=4)),
+        prop_oneof![Just(""), Just("x"), Just("xx"), Just("o")],
+    )
+        .prop_map(|(cones, corners, tail)| {
+            let mirror = corners.map_or_else(String::new, |c| format!("*{}", c.concat()));
+            format!("{}{mirror}{tail}", cones.concat())
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Rooms with portals too: any symbol that has a room, alone in a file, is a valid room
+    /// with everything inside it.
+    #[test]
+    fn any_symbol_alone_is_a_valid_room(symbol in symbol()) {
+        prop_assume!(Scene::for_signature(&symbol).is_ok());
+        check_placed(&symbol);
+    }
+}
