@@ -61,7 +61,7 @@ impl Scene {
     /// assert_eq!(errors[0].position, Some((2, 10)));
     /// ```
     pub fn from_toml(text: &str, origin: Option<&Path>) -> Result<Scene, Vec<SceneError>> {
-        let scene: Scene = toml::from_str(text).map_err(|e| {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| {
             vec![SceneError {
                 file: origin.map(Path::to_path_buf),
                 position: e.span().map(|s| line_column(text, s.start)),
@@ -69,6 +69,11 @@ impl Scene {
                 message: e.message().trim().to_string(),
             }]
         })?;
+        // What the file leaves out is placed for its room (placement.rs); what it writes is
+        // checked as written.
+        if let Ok(table) = text.parse::<toml::Table>() {
+            scene.place_unwritten(&crate::placement::Written::of(&table));
+        }
         let base = origin.and_then(Path::parent).map(Path::to_path_buf);
         let problems = validate(&scene, base.as_deref());
         if problems.is_empty() {

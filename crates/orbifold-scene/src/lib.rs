@@ -20,6 +20,7 @@ pub mod file;
 pub mod geometry;
 pub mod mesh;
 pub mod part;
+pub mod placement;
 pub mod sound;
 pub mod texture;
 pub mod validate;

@@ -66,7 +66,11 @@ pub(crate) fn validate(scene: &Scene, base: Option<&Path>) -> Problems {
         &room.portal_transmittance,
     );
     walls(&mut p, scene, layout.as_ref(), base);
-    let inside = |at: [f64; 2]| layout.as_ref().is_none_or(|l| is_inside(l, at));
+    let inside = |at: [f64; 2]| {
+        layout
+            .as_ref()
+            .is_none_or(|l| crate::placement::is_inside(l, at))
+    };
     for (i, o) in scene.objects.iter().enumerate() {
         let key = format!("objects[{i}]");
         match &o.mesh {
@@ -350,16 +354,6 @@ fn camera_outside_lights(p: &mut Problems, scene: &Scene, layout: &Layout) {
             ));
         }
     }
-}
-
-fn is_inside(layout: &Layout, at: [f64; 2]) -> bool {
-    let space = layout.space();
-    let z = Complex64::new(at[0], at[1]);
-    if space.kappa() < 0.0 && z.norm() >= 1.0 {
-        return false;
-    }
-    let p = space.to_ambient(z);
-    layout.edges.iter().all(|e| e.wall.dot(p) > 0.0)
 }
 
 fn position(p: &mut Problems, key: &str, at: [f64; 2], inside: &dyn Fn([f64; 2]) -> bool) {

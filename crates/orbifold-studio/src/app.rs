@@ -6,11 +6,14 @@ use std::path::PathBuf;
 use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use orbifold_scene::Scene;
 
+use crate::dialogs::{FileDialogs, Request, relative_to};
 use crate::document::{self, Document};
+use crate::examples_browser::{Example, ExamplesBrowser};
 use crate::listen_panel::ListenPanel;
 use crate::render_job::{RenderJob, default_output};
+use crate::room_panel::{Pick, Target};
 use crate::view3d::View3d;
-use crate::{design, layout_view, room_panel};
+use crate::{design, drop, layout_view, room_panel};
 
 /// What the middle of the window shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -25,12 +28,15 @@ pub enum Tab {
     Listen,
 }
 
-/// A file dialog: a path typed in (the studio has no native dialogs).
+/// The studio's own file dialog, where a path is typed in: used when no [`FileDialogs`] are
+/// given (the web, and tests that drive the typed dialog).
 #[derive(Clone, Debug, PartialEq, Eq)]
 enum Dialog {
     Open(String),
     SaveAs(String),
     SavePicture(String),
+    PickMesh(String),
+    PickTexture(Target, String),
 }
 
 /// The studio application.
@@ -60,6 +66,13 @@ pub struct Studio {
     pub screenshot: Option<(PathBuf, u32)>,
     /// The listen tab (its audio output can be replaced, for tests).
     pub listen: ListenPanel,
+    /// The file dialogs: the system's in the desktop binary, scripted ones in tests; `None`
+    /// uses the studio's own window where a path is typed.
+    pub dialogs: Option<Box<dyn FileDialogs>>,
+    /// A dialog asked for in this frame, shown after it (with the surface an image is for).
+    pending: Option<(Request, Option<Target>)>,
+    /// The examples browser.
+    pub examples: ExamplesBrowser,
 }
 
 impl Studio {
@@ -95,6 +108,9 @@ impl Studio {
             tiling: None,
             screenshot: None,
             listen: ListenPanel::default(),
+            dialogs: None,
+            pending: None,
+            examples: ExamplesBrowser::default(),
         }
     }
 
@@ -161,9 +177,159 @@ impl Studio {
                 });
             });
         egui::CentralPanel::default().show(ui, |ui| self.middle(ui));
+        match room_panel::take_pick(ui.ctx()) {
+            Some(Pick::Mesh) => self.ask(Request::PickMesh, None),
+            Some(Pick::Texture(target)) => self.ask(Request::PickTexture, Some(target)),
+            None => {}
+        }
+        if let Some(example) = self.examples.show(ui.ctx()) {
+            self.open_example(example);
+        }
+        self.dropped_files(ui);
         self.dialog(ui);
         self.recovery(ui);
         self.take_screenshot(ui);
+        self.answer_pending();
+    }
+
+    /// Asks for a file: through [`Studio::dialogs`] after this frame, or in the studio's own
+    /// window. `target` is the surface an image is for.
+    fn ask(&mut self, request: Request, target: Option<Target>) {
+        if self.dialogs.is_some() {
+            self.pending = Some((request, target));
+            return;
+        }
+        let suggested = self.suggested(request).display().to_string();
+        self.dialog = Some(match request {
+            Request::OpenScene => Dialog::Open(String::new()),
+            Request::SaveScene => Dialog::SaveAs(suggested),
+            Request::SavePicture => Dialog::SavePicture(suggested),
+            Request::PickMesh => Dialog::PickMesh(String::new()),
+            Request::PickTexture => Dialog::PickTexture(target.unwrap_or_default(), String::new()),
+        });
+    }
+
+    /// The name a save dialog starts with: the document's file (or `room.toml`), or a picture
+    /// next to it.
+    fn suggested(&self, request: Request) -> PathBuf {
+        match request {
+            Request::SavePicture => default_output(self.document.path()),
+            _ => self
+                .document
+                .path()
+                .map_or_else(|| PathBuf::from("room.toml"), std::path::Path::to_path_buf),
+        }
+    }
+
+    /// Shows the dialog asked for in the frame just drawn (between frames, so a dialog that
+    /// blocks never interrupts a panel) and does what the chosen file is for.
+    fn answer_pending(&mut self) {
+        let Some((request, target)) = self.pending.take() else {
+            return;
+        };
+        let suggested = self.suggested(request);
+        let Some(dialogs) = &mut self.dialogs else {
+            return;
+        };
+        if let Some(path) = dialogs.ask(request, &suggested) {
+            self.chosen(request, target, &path);
+        }
+    }
+
+    /// Does what a chosen file is for.
+    fn chosen(&mut self, request: Request, target: Option<Target>, path: &std::path::Path) {
+        match request {
+            Request::OpenScene => self.open(path),
+            Request::SaveScene => self.save_as(path),
+            Request::SavePicture => self.save_picture(path),
+            Request::PickMesh => self.add_mesh(path),
+            Request::PickTexture => self.put_texture(target.unwrap_or_default(), path),
+        }
+    }
+
+    /// Writes the render tab's picture: PNG or JPEG as shown, EXR for the HDR image.
+    pub fn save_picture(&mut self, path: &std::path::Path) {
+        self.status = match &self.render {
+            Some(job) => match job.save(path) {
+                Ok(()) => format!("wrote {}", path.display()),
+                Err(e) => format!("cannot write {}: {e}", path.display()),
+            },
+            None => "nothing rendered yet: render in the render tab first".into(),
+        };
+    }
+
+    /// Adds an object made from the mesh file at `path`, at the room's centre.
+    pub fn add_mesh(&mut self, path: &std::path::Path) {
+        let name = relative_to(path, self.document.base());
+        self.document.edit(|scene| {
+            let object = room_panel::mesh_object(scene, name.clone());
+            scene.objects.push(object);
+        });
+        self.status = format!("added {} as an object", path.display());
+    }
+
+    /// Puts the image at `path` on `target` (the floor, the ceiling, the walls or an object).
+    pub fn put_texture(&mut self, target: Target, path: &std::path::Path) {
+        let name = relative_to(path, self.document.base());
+        let mut found = false;
+        self.document
+            .edit(|scene| found = room_panel::apply_texture(scene, target, name.clone()));
+        self.status = if found {
+            format!("the {} shows {}", target.name(), path.display())
+        } else {
+            format!("there is no {} to put {} on", target.name(), path.display())
+        };
+    }
+
+    /// Opens an example as a new untitled document: saving asks where, so the example stays.
+    pub fn open_example(&mut self, example: Example) {
+        match example.scene() {
+            Ok(scene) => {
+                self.document.remove_recovery();
+                self.document = Document::with_scene(scene, None, self.recovery_path());
+                self.view.reset(self.document.scene());
+                self.status = format!(
+                    "opened the example {} as a new scene: Save asks where to keep it",
+                    example.name
+                );
+            }
+            Err(e) => self.status = format!("cannot open the example {}: {e}", example.name),
+        }
+    }
+
+    /// Files dropped on the window: scenes open, meshes become objects, images go on the
+    /// surface the room panel names. While files hover over the window, says what they do.
+    fn dropped_files(&mut self, ui: &Ui) {
+        let hovering = ui.input(|i| !i.raw.hovered_files.is_empty());
+        if hovering {
+            let target = room_panel::texture_target(ui.ctx());
+            let screen = ui.ctx().content_rect();
+            let painter = ui.ctx().layer_painter(egui::LayerId::new(
+                egui::Order::Foreground,
+                egui::Id::unique("drop"),
+            ));
+            painter.rect_filled(screen, 0.0, Color32::from_black_alpha(160));
+            painter.text(
+                screen.center(),
+                egui::Align2::CENTER_CENTER,
+                format!(
+                    "drop a scene to open it, a mesh to add it, an image to put it on the {}",
+                    target.name()
+                ),
+                egui::FontId::proportional(20.0),
+                Color32::WHITE,
+            );
+        }
+        for dropped in drop::dropped(ui.ctx()) {
+            match dropped {
+                drop::Dropped::Scene(path) => self.open(&path),
+                drop::Dropped::Mesh(path) => self.add_mesh(&path),
+                drop::Dropped::Texture(path) => {
+                    self.put_texture(room_panel::texture_target(ui.ctx()), &path);
+                }
+                drop::Dropped::Refused(message) => self.status = message,
+            }
+        }
     }
 
     fn shortcuts(&mut self, ui: &Ui) {
@@ -188,7 +354,7 @@ impl Studio {
             self.save();
         }
         if open {
-            self.dialog = Some(Dialog::Open(String::new()));
+            self.ask(Request::OpenScene, None);
         }
         if new {
             self.new_document();
@@ -205,7 +371,7 @@ impl Studio {
     fn save(&mut self) {
         match self.document.path().map(std::path::Path::to_path_buf) {
             Some(path) => self.save_as(&path),
-            None => self.dialog = Some(Dialog::SaveAs("room.toml".into())),
+            None => self.ask(Request::SaveScene, None),
         }
     }
 
@@ -216,17 +382,16 @@ impl Studio {
                     self.new_document();
                 }
                 if ui.button("Open…").clicked() {
-                    self.dialog = Some(Dialog::Open(String::new()));
+                    self.ask(Request::OpenScene, None);
+                }
+                if ui.button("Examples…").clicked() {
+                    self.examples.open = true;
                 }
                 if ui.button("Save").clicked() {
                     self.save();
                 }
                 if ui.button("Save As…").clicked() {
-                    let current = self
-                        .document
-                        .path()
-                        .map_or_else(|| "room.toml".into(), |p| p.display().to_string());
-                    self.dialog = Some(Dialog::SaveAs(current));
+                    self.ask(Request::SaveScene, None);
                 }
                 ui.separator();
                 ui.label("Recent");
@@ -405,8 +570,7 @@ impl Studio {
                 job.cancel();
             }
             if self.render.is_some() && ui.button("Save picture…").clicked() {
-                let name = default_output(self.document.path()).display().to_string();
-                self.dialog = Some(Dialog::SavePicture(name));
+                self.ask(Request::SavePicture, None);
             }
         });
         let Some(job) = &self.render else {
@@ -479,6 +643,8 @@ impl Studio {
             Dialog::Open(t) => ("Open a scene", "Open", t.clone()),
             Dialog::SaveAs(t) => ("Save the scene as", "Save", t.clone()),
             Dialog::SavePicture(t) => ("Save the picture as", "Save picture", t.clone()),
+            Dialog::PickMesh(t) => ("Add a mesh", "Add mesh", t.clone()),
+            Dialog::PickTexture(_, t) => ("Pick an image", "Use image", t.clone()),
         };
         let mut close = false;
         let mut confirm = false;
@@ -497,25 +663,23 @@ impl Studio {
                     close |= ui.button("Cancel").clicked();
                 });
             });
-        self.dialog = Some(match dialog {
+        self.dialog = Some(match &dialog {
             Dialog::Open(_) => Dialog::Open(text.clone()),
             Dialog::SaveAs(_) => Dialog::SaveAs(text.clone()),
             Dialog::SavePicture(_) => Dialog::SavePicture(text.clone()),
+            Dialog::PickMesh(_) => Dialog::PickMesh(text.clone()),
+            Dialog::PickTexture(target, _) => Dialog::PickTexture(*target, text.clone()),
         });
         if confirm {
             let path = PathBuf::from(text.trim());
-            match dialog {
-                Dialog::Open(_) => self.open(&path),
-                Dialog::SaveAs(_) => self.save_as(&path),
-                Dialog::SavePicture(_) => {
-                    if let Some(job) = &self.render {
-                        self.status = match job.save(&path) {
-                            Ok(()) => format!("wrote {}", path.display()),
-                            Err(e) => format!("cannot write {}: {e}", path.display()),
-                        };
-                    }
-                }
-            }
+            let (request, target) = match dialog {
+                Dialog::Open(_) => (Request::OpenScene, None),
+                Dialog::SaveAs(_) => (Request::SaveScene, None),
+                Dialog::SavePicture(_) => (Request::SavePicture, None),
+                Dialog::PickMesh(_) => (Request::PickMesh, None),
+                Dialog::PickTexture(target, _) => (Request::PickTexture, Some(target)),
+            };
+            self.chosen(request, target, &path);
             close = true;
         }
         if close {

@@ -14,7 +14,8 @@ orbifold-studio: design orbifold mirror rooms and see them
 
 Usage: orbifold-studio [SCENE.toml] [--screenshot FILE.png]
 
-Opens SCENE.toml, or the seed's default *22222 room. --screenshot writes a picture of the window
+Opens SCENE.toml, or the seed's default *22222 room. File > Examples lists the example scenes;
+scenes, meshes and images can be dropped on the window. --screenshot writes a picture of the window
 after the first frames and quits. Keys: Ctrl+N new, Ctrl+O open, Ctrl+S save, Ctrl+Z undo,
 Ctrl+Shift+Z or Ctrl+Y redo; in the 3D view W/S walk, A/D turn, Q/E look up and down, drag to
 look around. See docs/guide.md.";
@@ -57,6 +58,7 @@ fn main() -> ExitCode {
         None => Document::new(recovery),
     };
     let mut studio = Studio::new(document, data);
+    studio.dialogs = Some(Box::new(orbifold_studio::dialogs::NativeDialogs::default()));
     studio.recovered = recovered.filter(|_| screenshot.is_none());
     studio.screenshot = screenshot.map(|p| (p, 8));
     let options = eframe::NativeOptions {

@@ -6,12 +6,13 @@
 
 use egui::{Color32, Ui};
 use orbifold_scene::mesh::procedural::NAMES;
-use orbifold_scene::{Color, Light, Material, Mirror, Object, Scene, Wall};
+use orbifold_scene::{Color, Light, Material, MetalName, Mirror, Object, Scene, Wall};
 
 use crate::design::labelled_value;
 use crate::layout_view::wall_colour;
 
-/// The room panel. Returns the changed scene, if the user changed it.
+/// The room panel. Returns the changed scene, if the user changed it. A file to pick (a mesh,
+/// an image) is asked for through [`take_pick`].
 pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     let mut next = scene.clone();
     let walls = scene.layout().map_or(0, |l| l.edges.len());
@@ -28,8 +29,22 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
         );
         ui.end_row();
     });
-    material(ui, "floor", &mut next.room.floor);
-    material(ui, "ceiling", &mut next.room.ceiling);
+    material(ui, "floor", &mut next.room.floor, Target::Floor, false);
+    material(
+        ui,
+        "ceiling",
+        &mut next.room.ceiling,
+        Target::Ceiling,
+        false,
+    );
+    material(
+        ui,
+        "walls",
+        &mut next.room.wall_material,
+        Target::Walls,
+        false,
+    );
+    image_target(ui, &next);
 
     egui::CollapsingHeader::new("Walls and mirrors")
         .default_open(true)
@@ -65,40 +80,217 @@ enum Surface {
     Colour,
     Checker,
     Texture,
+    Marble,
+    Plastic,
+    Metal,
+    Glass,
 }
 
-/// A surface's material: a colour, a checkerboard or an image texture (other materials keep
-/// their settings and show their representative colour).
-fn material(ui: &mut Ui, name: &str, material: &mut Material) {
+impl Surface {
+    /// The kinds and their names in the panel; glass only where `glass` (objects: a room's
+    /// surfaces are opaque).
+    fn all(glass: bool) -> impl Iterator<Item = (Surface, &'static str)> {
+        [
+            (Surface::Colour, "colour"),
+            (Surface::Checker, "checker"),
+            (Surface::Texture, "image"),
+            (Surface::Marble, "marble"),
+            (Surface::Plastic, "plastic"),
+            (Surface::Metal, "metal"),
+            (Surface::Glass, "glass"),
+        ]
+        .into_iter()
+        .filter(move |(s, _)| glass || *s != Surface::Glass)
+    }
+
+    fn of(material: &Material) -> Surface {
+        match material {
+            Material::Color { .. } => Surface::Colour,
+            Material::Checker { .. } => Surface::Checker,
+            Material::Texture { .. } => Surface::Texture,
+            Material::Marble { .. } => Surface::Marble,
+            Material::Plastic { .. } => Surface::Plastic,
+            Material::Metal { .. } => Surface::Metal,
+            Material::Glass { .. } => Surface::Glass,
+        }
+    }
+
+    /// A material of this kind that looks like `base` where the kind has a colour (the
+    /// scene format's defaults otherwise).
+    fn material(self, base: Color) -> Material {
+        match self {
+            Surface::Colour => Material::Color { color: base },
+            Surface::Checker => Material::Checker {
+                colors: [base, base.map(|c| c * 0.6)],
+                size: 0.1,
+                coordinates: Default::default(),
+            },
+            Surface::Texture => Material::Texture {
+                path: String::new(),
+                scale: 0.5,
+                coordinates: Default::default(),
+            },
+            Surface::Marble => Material::Marble {
+                base,
+                vein: base.map(|c| c * 0.3),
+                scale: 0.3,
+                coordinates: Default::default(),
+            },
+            Surface::Plastic => Material::Plastic {
+                color: base,
+                roughness: 0.2,
+            },
+            Surface::Metal => Material::Metal {
+                metal: MetalName::Silver,
+                roughness: 0.1,
+            },
+            Surface::Glass => Material::Glass {
+                tint: [1.0; 3],
+                ior: 1.5,
+            },
+        }
+    }
+}
+
+/// What a picked or dropped image goes on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Target {
+    /// The floor.
+    #[default]
+    Floor,
+    /// The ceiling.
+    Ceiling,
+    /// The walls without a mirror (the room's wall material).
+    Walls,
+    /// Object `i`.
+    Object(usize),
+}
+
+impl Target {
+    /// The name the panel shows.
+    pub fn name(self) -> String {
+        match self {
+            Target::Floor => "floor".into(),
+            Target::Ceiling => "ceiling".into(),
+            Target::Walls => "walls".into(),
+            Target::Object(i) => format!("object {i}"),
+        }
+    }
+
+    /// The material it names in `scene`, if there is one.
+    pub fn material_mut(self, scene: &mut Scene) -> Option<&mut Material> {
+        match self {
+            Target::Floor => Some(&mut scene.room.floor),
+            Target::Ceiling => Some(&mut scene.room.ceiling),
+            Target::Walls => Some(&mut scene.room.wall_material),
+            Target::Object(i) => scene.objects.get_mut(i).map(|o| &mut o.material),
+        }
+    }
+}
+
+/// A file the panel asks the studio to pick (with a file dialog, between frames).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pick {
+    /// A mesh for a new object.
+    Mesh,
+    /// An image for this surface.
+    Texture(Target),
+}
+
+fn pick_id() -> egui::Id {
+    egui::Id::unique("room panel pick")
+}
+
+fn target_id() -> egui::Id {
+    egui::Id::unique("room panel image target")
+}
+
+/// Takes the file the panel asked for in this frame, if it asked.
+pub fn take_pick(ctx: &egui::Context) -> Option<Pick> {
+    ctx.data_mut(|d| {
+        let pick = d.get_temp::<Pick>(pick_id());
+        d.remove::<Pick>(pick_id());
+        pick
+    })
+}
+
+/// The surface that dropped images go on: the one chosen in the panel (the floor at first).
+pub fn texture_target(ctx: &egui::Context) -> Target {
+    ctx.data(|d| d.get_temp(target_id())).unwrap_or_default()
+}
+
+/// Sets the surface that dropped images go on.
+pub fn set_texture_target(ctx: &egui::Context, target: Target) {
+    ctx.data_mut(|d| d.insert_temp(target_id(), target));
+}
+
+/// Puts the image at `path` (as the scene should hold it) on `target` in `scene`: the surface
+/// becomes an image texture, keeping its size if it already was one. Returns whether the
+/// target exists.
+pub fn apply_texture(scene: &mut Scene, target: Target, path: String) -> bool {
+    let Some(material) = target.material_mut(scene) else {
+        return false;
+    };
+    *material = match material {
+        Material::Texture {
+            scale, coordinates, ..
+        } => Material::Texture {
+            path,
+            scale: *scale,
+            coordinates: *coordinates,
+        },
+        _ => Material::Texture {
+            path,
+            scale: 0.5,
+            coordinates: Default::default(),
+        },
+    };
+    true
+}
+
+/// A new object made from the mesh file `path` (as the scene should hold it), at the room's
+/// centre.
+pub fn mesh_object(scene: &Scene, path: String) -> Object {
+    let centre = scene
+        .layout()
+        .map_or(num_complex::Complex64::new(0.0, 0.0), |l| l.centre);
+    Object {
+        mesh: Some(path),
+        at: [centre.re, centre.im],
+        size: 0.4,
+        ..Object::default()
+    }
+}
+
+/// A surface's material: a colour, a checkerboard, an image texture, marble, plastic, metal
+/// or (objects only, `glass`) glass, each with its settings.
+fn material(ui: &mut Ui, name: &str, material: &mut Material, target: Target, glass: bool) {
     ui.horizontal_wrapped(|ui| {
         ui.label(name);
-        let kind = match material {
-            Material::Checker { .. } => Some(Surface::Checker),
-            Material::Texture { .. } => Some(Surface::Texture),
-            Material::Color { .. } => Some(Surface::Colour),
-            _ => None,
-        };
-        if let Some(kind) = kind {
-            let mut chosen = kind;
-            ui.selectable_value(&mut chosen, Surface::Colour, format!("{name}: colour"));
-            ui.selectable_value(&mut chosen, Surface::Checker, format!("{name}: checker"));
-            ui.selectable_value(&mut chosen, Surface::Texture, format!("{name}: image"));
-            if chosen != kind {
-                let base = orbifold_scene::geometry::representative(material);
-                *material = match chosen {
-                    Surface::Colour => Material::Color { color: base },
-                    Surface::Checker => Material::Checker {
-                        colors: [base, base.map(|c| c * 0.6)],
-                        size: 0.1,
-                        coordinates: Default::default(),
-                    },
-                    Surface::Texture => Material::Texture {
-                        path: String::new(),
-                        scale: 0.5,
-                        coordinates: Default::default(),
-                    },
-                };
+        let kind = Surface::of(material);
+        let mut chosen = kind;
+        // The plain kinds side by side, the rest in a menu: the panel stays narrow.
+        let (plain, more): (Vec<_>, Vec<_>) = Surface::all(glass || kind == Surface::Glass)
+            .partition(|(s, _)| matches!(s, Surface::Colour | Surface::Checker | Surface::Texture));
+        for (surface, label) in plain {
+            ui.selectable_value(&mut chosen, surface, format!("{name}: {label}"));
+        }
+        let current = more.iter().find(|(s, _)| *s == kind).map(|(_, l)| *l);
+        let button = format!("{name}: {}…", current.unwrap_or("more"));
+        let menu = egui::Button::new(button).selected(current.is_some());
+        egui::containers::menu::MenuButton::from_button(menu).ui(ui, |ui| {
+            for (surface, label) in more {
+                if ui
+                    .selectable_value(&mut chosen, surface, format!("{name}: {label}"))
+                    .clicked()
+                {
+                    ui.close();
+                }
             }
+        });
+        if chosen != kind {
+            let base = orbifold_scene::geometry::representative(material);
+            *material = chosen.material(base);
         }
         match material {
             Material::Color { color } => colour(ui, &format!("{name} colour"), color),
@@ -115,11 +307,64 @@ fn material(ui: &mut Ui, name: &str, material: &mut Material) {
                         .desired_width(140.0),
                 )
                 .labelled_by(label.id);
+                if ui.button(format!("pick {name} image…")).clicked() {
+                    ui.data_mut(|d| d.insert_temp(pick_id(), Pick::Texture(target)));
+                }
                 labelled_value(ui, &format!("{name} image size"), scale, 0.01..=50.0, 0.005);
             }
-            other => {
-                let c = orbifold_scene::geometry::representative(other);
-                ui.label(format!("(set in the scene file; shown as {c:.2?})"));
+            Material::Marble {
+                base, vein, scale, ..
+            } => {
+                colour(ui, &format!("{name} marble ground"), base);
+                colour(ui, &format!("{name} marble veins"), vein);
+                labelled_value(
+                    ui,
+                    &format!("{name} marble size"),
+                    scale,
+                    0.01..=50.0,
+                    0.005,
+                );
+            }
+            Material::Plastic { color, roughness } => {
+                colour(ui, &format!("{name} colour"), color);
+                labelled_value(
+                    ui,
+                    &format!("{name} roughness"),
+                    roughness,
+                    0.0..=1.0,
+                    0.005,
+                );
+            }
+            Material::Metal { metal, roughness } => {
+                egui::ComboBox::from_label(format!("{name} metal"))
+                    .selected_text(format!("{metal:?}").to_lowercase())
+                    .show_ui(ui, |ui| {
+                        for m in [
+                            MetalName::Silver,
+                            MetalName::Gold,
+                            MetalName::Copper,
+                            MetalName::Aluminium,
+                        ] {
+                            ui.selectable_value(metal, m, format!("{m:?}").to_lowercase());
+                        }
+                    });
+                labelled_value(
+                    ui,
+                    &format!("{name} roughness"),
+                    roughness,
+                    0.0..=1.0,
+                    0.005,
+                );
+            }
+            Material::Glass { tint, ior } => {
+                colour(ui, &format!("{name} tint"), tint);
+                labelled_value(
+                    ui,
+                    &format!("{name} refractive index"),
+                    ior,
+                    1.0..=3.0,
+                    0.005,
+                );
             }
         }
     });
@@ -187,6 +432,29 @@ pub fn set_wall_mirrors(scene: &mut Scene, w: usize, mirrors: Vec<Mirror>) {
     scene.walls.sort_by_key(|x| x.index);
 }
 
+/// The surface that dropped images go on, chosen among the room's and the objects'.
+fn image_target(ui: &mut Ui, scene: &Scene) {
+    let mut target = texture_target(ui.ctx());
+    if let Target::Object(i) = target
+        && i >= scene.objects.len()
+    {
+        target = Target::Floor;
+    }
+    let before = target;
+    egui::ComboBox::from_label("dropped images go on")
+        .selected_text(target.name())
+        .show_ui(ui, |ui| {
+            let room = [Target::Floor, Target::Ceiling, Target::Walls];
+            let objects = (0..scene.objects.len()).map(Target::Object);
+            for t in room.into_iter().chain(objects) {
+                ui.selectable_value(&mut target, t, t.name());
+            }
+        });
+    if target != before || texture_target(ui.ctx()) != target {
+        set_texture_target(ui.ctx(), target);
+    }
+}
+
 fn objects(ui: &mut Ui, scene: &mut Scene) {
     let centre = scene
         .layout()
@@ -212,6 +480,9 @@ fn objects(ui: &mut Ui, scene: &mut Scene) {
                 ..Object::default()
             });
         }
+        if ui.button("pick mesh…").clicked() {
+            ui.data_mut(|d| d.insert_temp(pick_id(), Pick::Mesh));
+        }
     });
     ui.horizontal(|ui| {
         let id = ui.make_persistent_id("new object mesh");
@@ -230,12 +501,8 @@ fn objects(ui: &mut Ui, scene: &mut Scene) {
             )
             .clicked()
         {
-            scene.objects.push(Object {
-                mesh: Some(path.trim().to_string()),
-                at: [centre.re, centre.im],
-                size: 0.4,
-                ..Object::default()
-            });
+            let object = mesh_object(scene, path.trim().to_string());
+            scene.objects.push(object);
         }
         ui.data_mut(|d| d.insert_temp(id, path));
     });
@@ -293,10 +560,8 @@ fn objects(ui: &mut Ui, scene: &mut Scene) {
                 0.0..=180.0,
                 1.0,
             );
-            if let Material::Color { color } = &mut object.material {
-                colour(ui, &format!("{name} colour"), color);
-            }
         });
+        material(ui, &name, &mut object.material, Target::Object(i), true);
     }
     if let Some(i) = remove {
         scene.objects.remove(i);

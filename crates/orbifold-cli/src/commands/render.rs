@@ -13,7 +13,6 @@ use orbifold_trace::camera::Camera;
 use serde::Serialize;
 
 use crate::args::{ImageArgs, RenderArgs};
-use crate::commands::scene::camera_position;
 use crate::error::CliError;
 use crate::output;
 
@@ -51,13 +50,7 @@ pub(crate) fn load(input: Option<&str>) -> Result<(Scene, Option<PathBuf>), CliE
     let signature: orbifold::OrbifoldSymbol = input
         .parse()
         .map_err(|e: orbifold::ParseError| CliError::Input(format!("{e}\n{}", e.snippet())))?;
-    let mut scene = Scene::default();
-    scene.orbifold.signature = signature.to_string();
-    let layout = scene.layout().map_err(CliError::Input)?;
-    let centre = [layout.centre.re, layout.centre.im];
-    scene.objects.iter_mut().for_each(|o| o.at = centre);
-    scene.lights.iter_mut().for_each(|l| l.at = centre);
-    scene.camera.at = camera_position(&layout);
+    let scene = Scene::for_signature(&signature.to_string()).map_err(CliError::Input)?;
     Ok((scene, None))
 }
 

@@ -8,50 +8,15 @@ use crate::args::SceneCommand;
 use crate::error::CliError;
 use crate::output;
 
-/// Where a new scene's camera stands: on the −x side of the centre, three quarters of the way to
-/// the wall, so that it looks across the room at the object in the middle rather than from
-/// inside it.
-pub(crate) fn camera_position(layout: &orbifold::Layout) -> [f64; 2] {
-    let space = layout.space();
-    let inside = |t: f64| {
-        let z = layout.centre - t;
-        (space.kappa() >= 0.0 || z.norm() < 1.0)
-            && layout
-                .edges
-                .iter()
-                .all(|e| e.wall.dot(space.to_ambient(z)) > 0.0)
-    };
-    // The model distance to the wall by bisection; rooms open to infinity stop at 1.
-    let (mut lo, mut hi) = (0.0, 1.0);
-    if inside(hi) {
-        lo = hi;
-    } else {
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if inside(mid) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-    }
-    [layout.centre.re - 0.75 * lo, layout.centre.im]
-}
-
 pub fn run(command: &SceneCommand) -> Result<(), CliError> {
     let mut out = output::stdout();
     match command {
         SceneCommand::New { signature, output } => {
-            let mut scene = Scene::default();
-            if let Some(signature) = signature {
-                scene.orbifold.signature = signature.clone();
-                // Keep the default objects, lights and camera only where they fit the new room.
-                let layout = scene.layout().map_err(CliError::Input)?;
-                let centre = [layout.centre.re, layout.centre.im];
-                scene.objects.iter_mut().for_each(|o| o.at = centre);
-                scene.lights.iter_mut().for_each(|l| l.at = centre);
-                scene.camera.at = camera_position(&layout);
-            }
+            // Objects, lights and camera placed for the new room (orbifold_scene::placement).
+            let scene = match signature {
+                Some(signature) => Scene::for_signature(signature).map_err(CliError::Input)?,
+                None => Scene::default(),
+            };
             let text = scene.to_toml();
             if let Err(errors) = Scene::from_toml(&text, None) {
                 let list: Vec<String> = errors.iter().map(ToString::to_string).collect();
