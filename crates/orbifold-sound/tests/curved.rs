@@ -165,9 +165,23 @@ proptest::proptest! {
         let layout = scene.layout().unwrap();
         let v: Vec<_> = layout.vertices.iter().map(|v| v.position).collect();
         let centre = layout.centre;
-        // Points inside the convex polygon: towards a corner, and between two others.
-        let p = centre + (v[0] - centre) * a;
-        let q = centre + ((v[1] - centre) * c + (v[2] - centre) * (1.0 - c)) * b;
+        // Points towards a corner, and between two others, pulled towards the centre until they
+        // are inside: a polygon's walls bow inwards in the Poincaré disk, so the model's chord
+        // between two corners runs outside the room.
+        let space = layout.space();
+        let inside = |z: num_complex::Complex64| {
+            let x = space.to_ambient(z);
+            layout.edges.iter().all(|e| e.wall.dot(x) > 1e-3)
+        };
+        let pulled_in = |target: num_complex::Complex64| {
+            let mut t = 1.0;
+            while !inside(centre + (target - centre) * t) {
+                t *= 0.8;
+            }
+            centre + (target - centre) * t
+        };
+        let p = pulled_in(centre + (v[0] - centre) * a);
+        let q = pulled_in(centre + ((v[1] - centre) * c + (v[2] - centre) * (1.0 - c)) * b);
         scene.sound.source = Some(orbifold_scene::sound::Place { at: [p.re, p.im], height: hs });
         scene.sound.listener = Some(orbifold_scene::sound::Place { at: [q.re, q.im], height: hl });
         check_scene(&scene, 60);
