@@ -25,7 +25,6 @@
 //! one of length d − 1, d or d + 1 (the generators are closed under inverses).
 
 use glam::{DMat3, DVec3};
-use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::{EdgeKind, FundamentalPolygon};
@@ -400,103 +399,52 @@ impl<'a> Search<'a> {
 
     /// The next layer: every neighbour of the layer's tiles that is in none of the last two
     /// layers (in `grid`) nor already in the new one, which it adds to `grid`.
-    ///
-    /// In two passes, so that the first runs on every core: the children's images of the centre
-    /// and their error bounds, less those that the last two layers already hold (the grid only
-    /// read), in the layer's order; then, in that order, the new layer's own repeats are
-    /// dropped as the survivors are inserted. The result is the sequential search's.
     fn expand(
         &self,
         layer: &[(Node, u32)],
         grid: &mut Grid,
         depth: usize,
     ) -> Result<Vec<(Node, u32)>, CoverError> {
-        let children = |(parent, facing): &(Node, u32)| self.children(parent, *facing, grid, depth);
-        let candidates: Vec<Vec<Child>> = if layer.len() >= PARALLEL_LAYER {
-            layer.par_iter().map(children).collect::<Result<_, _>>()?
-        } else {
-            layer.iter().map(children).collect::<Result<_, _>>()?
-        };
         let mut next: Vec<(Node, u32)> = Vec::with_capacity(layer.len() * 2);
-        for (child, (parent, _)) in candidates
-            .iter()
-            .zip(layer)
-            .flat_map(|(list, parent)| list.iter().map(move |c| (c, parent)))
-        {
-            if grid.contains(child.point, child.point_error, self.separation) {
+        // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
+        // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
+        let limit = self.separation / 16.0;
+        let bounded = self.reach.is_finite();
+        for (parent, facing) in layer {
+            if bounded && self.distance(parent.point) > self.reach {
                 continue;
             }
-            grid.insert(child.point, child.point_error);
-            let i = child.generator as usize;
-            next.push((
-                Node {
-                    matrix: parent.matrix * self.generators[i],
-                    point: child.point,
-                    error: child.error,
-                    shift: child.shift,
-                },
-                self.facing[i],
-            ));
+            let p_norm = spectral(self.space, &parent.matrix);
+            for (i, n) in self.generators.iter().enumerate() {
+                // Across the edge it faces its parent by lies the parent.
+                if i as u32 == *facing {
+                    continue;
+                }
+                // The image of O first (N·O is precomputed); the matrix only for a new tile.
+                let point = parent.matrix * self.images[i];
+                let (error, shift, point_error) = self.propagate(parent, p_norm, i);
+                if point_error.is_nan() || point_error >= limit || !point.is_finite() {
+                    return Err(CoverError::Precision { depth });
+                }
+                // Two images of one tile lie within the sum of their error bounds.
+                if grid.contains(point, point_error, self.separation) {
+                    continue;
+                }
+                grid.insert(point, point_error);
+                next.push((
+                    Node {
+                        matrix: parent.matrix * *n,
+                        point,
+                        error,
+                        shift,
+                    },
+                    self.facing[i],
+                ));
+            }
         }
         let _ = self.polygon;
         Ok(next)
     }
-
-    /// The children of `parent` across every edge but the one it faces its own parent by
-    /// (`facing`: that child is the parent), less those that `grid` (the last two layers)
-    /// holds; their images of the centre and error bounds, not yet their matrices.
-    fn children(
-        &self,
-        parent: &Node,
-        facing: u32,
-        grid: &Grid,
-        depth: usize,
-    ) -> Result<Vec<Child>, CoverError> {
-        // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
-        // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
-        let limit = self.separation / 16.0;
-        if self.reach.is_finite() && self.distance(parent.point) > self.reach {
-            return Ok(Vec::new());
-        }
-        let p_norm = spectral(self.space, &parent.matrix);
-        let mut out = Vec::with_capacity(self.generators.len());
-        for i in 0..self.generators.len() {
-            if i as u32 == facing {
-                continue;
-            }
-            // The image of O first (N·O is precomputed); the matrix only for a new tile.
-            let point = parent.matrix * self.images[i];
-            let (error, shift, point_error) = self.propagate(parent, p_norm, i);
-            if point_error.is_nan() || point_error >= limit || !point.is_finite() {
-                return Err(CoverError::Precision { depth });
-            }
-            // Two images of one tile lie within the sum of their error bounds.
-            if grid.contains(point, point_error, self.separation) {
-                continue;
-            }
-            out.push(Child {
-                point,
-                error,
-                shift,
-                point_error,
-                generator: i as u32,
-            });
-        }
-        Ok(out)
-    }
-}
-
-/// Layers at least this long are expanded on every core.
-const PARALLEL_LAYER: usize = 512;
-
-/// A child found by [`Search::children`]: its image of the centre, error bounds and generator.
-#[derive(Clone, Copy)]
-struct Child {
-    point: DVec3,
-    error: f64,
-    shift: f64,
-    point_error: f64,
-    generator: u32,
 }
 
 /// The generators' measured defect: pairings against their partners' inverses, mirrors against
