@@ -665,12 +665,17 @@ fn draw_pairings(
                 svg,
                 r##"<line x1="{x0:.2}" y1="{y0:.2}" x2="{x1:.2}" y2="{y1:.2}" stroke="{colour}" stroke-width="2" marker-end="url(#arrow)"/>"##
             );
+            // The letter outside the base tile, off the edge's middle away from the polygon's
+            // centre, so that it never covers the tile's own motif.
             let (x, y) = px[mid];
+            let (cx, cy) = view.px(space.to_model(recentre * polygon.centre_ambient()));
+            let (dx, dy) = (x - cx, y - cy);
+            let length = dx.hypot(dy).max(1e-9);
             let _ = writeln!(
                 svg,
-                r##"<text x="{:.2}" y="{:.2}" font-size="15" fill="{colour}">{letter}</text>"##,
-                x + 6.0,
-                y - 6.0
+                r##"<text x="{:.2}" y="{:.2}" font-size="15" fill="{colour}" text-anchor="middle" dominant-baseline="central">{letter}</text>"##,
+                x + 12.0 * dx / length,
+                y + 12.0 * dy / length
             );
         }
     }
