@@ -1,0 +1,204 @@
+// End-to-end tests of the web studio in headless Chromium (docs/web.md): the site that
+// `scripts/web.sh build` made (SITE, default target/web) is served on a free port and driven
+// with Playwright. Chromium runs without a GPU: WebGL2 on SwiftShader.
+//
+//   cd tests/web && npm ci && npm test
+//
+// CHROMIUM names the browser (default /usr/bin/chromium); SHOTS, a folder for the screenshots
+// the tests take (default tests/web/out).
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import http from "node:http";
+import fs from "node:fs";
+import os from "node:os";
+import path from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const root = path.resolve(here, "../..");
+const site = path.resolve(root, process.env.SITE ?? "target/web");
+const shots = path.resolve(root, process.env.SHOTS ?? path.join(here, "out"));
+const executablePath = process.env.CHROMIUM ?? "/usr/bin/chromium";
+// SwiftShader draws the preview on the CPU, and the module compiles without a JIT cache.
+const SLOW = 180_000;
+const VIEWPORT = { width: 1280, height: 800 };
+
+const types = {
+  ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm",
+  ".toml": "text/plain",
+};
+let server, base, context, page, userData;
+const errors = [];
+
+function serve() {
+  return new Promise((resolve) => {
+    const s = http.createServer((req, res) => {
+      const url = new URL(req.url, "http://localhost");
+      const file = path.join(site, url.pathname === "/" ? "index.html" : url.pathname);
+      if (!file.startsWith(site) || !fs.existsSync(file)) {
+        res.writeHead(404).end();
+        return;
+      }
+      res.writeHead(200, { "content-type": types[path.extname(file)] ?? "application/octet-stream" });
+      fs.createReadStream(file).pipe(res);
+    });
+    s.listen(0, "127.0.0.1", () => resolve(s));
+  });
+}
+
+/** Statistics of a PNG (a screenshot), computed by the browser: the mean and spread of its
+ * grey levels, and how many of its pixels differ by more than 24 levels from `other`'s. */
+async function compare(png, other) {
+  const decode = async (buffer) => `data:image/png;base64,${buffer.toString("base64")}`;
+  return page.evaluate(async ([a, b]) => {
+    const pixels = async (src) => {
+      const img = new Image();
+      img.src = src;
+      await img.decode();
+      const c = new OffscreenCanvas(img.width, img.height);
+      const g = c.getContext("2d");
+      g.drawImage(img, 0, 0);
+      return g.getImageData(0, 0, img.width, img.height).data;
+    };
+    const p = await pixels(a);
+    const q = b ? await pixels(b) : null;
+    let sum = 0, sum2 = 0, changed = 0;
+    const n = p.length / 4;
+    for (let i = 0; i < p.length; i += 4) {
+      const grey = (p[i] + p[i + 1] + p[i + 2]) / 3;
+      sum += grey;
+      sum2 += grey * grey;
+      if (q && Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]) > 24) {
+        changed += 1;
+      }
+    }
+    const mean = sum / n;
+    return { mean, spread: Math.sqrt(Math.max(0, sum2 / n - mean * mean)), changed: changed / n };
+  }, [await decode(png), other ? await decode(other) : null]);
+}
+
+/** A screenshot of part of the page (x, y, width, height in CSS pixels), also saved as NAME.png. */
+async function shot(name, clip) {
+  const png = await page.screenshot({ clip, path: path.join(shots, `${name}.png`) });
+  return png;
+}
+
+// Where the studio's parts are in a 1280×800 window (egui lays them out the same every time):
+// the left panel (design and layout), the middle (3D view, tiling, render) and its tab row.
+const LEFT = { x: 0, y: 60, width: 300, height: 700 };
+const MIDDLE = { x: 320, y: 100, width: 600, height: 640 };
+const FULL = { x: 0, y: 0, ...VIEWPORT };
+
+/** Waits until `n` more frames have been drawn (a few animation frames). */
+async function frames(n = 10) {
+  await page.evaluate((k) => new Promise((resolve) => {
+    const step = (left) => (left === 0 ? resolve() : requestAnimationFrame(() => step(left - 1)));
+    step(k);
+  }), n);
+}
+
+/** Waits until the middle of the window stops changing (the preview or a render settled). */
+async function settled(clip, timeout = SLOW) {
+  const start = Date.now();
+  let last = await page.screenshot({ clip });
+  for (;;) {
+    await page.waitForTimeout(1500);
+    const next = await page.screenshot({ clip });
+    if ((await compare(next, last)).changed < 0.001 || Date.now() - start > timeout) return next;
+    last = next;
+  }
+}
+
+before(async () => {
+  assert.ok(fs.existsSync(path.join(site, "index.html")), `no site at ${site}: run scripts/web.sh build`);
+  fs.mkdirSync(shots, { recursive: true });
+  server = await serve();
+  base = `http://127.0.0.1:${server.address().port}/`;
+  userData = fs.mkdtempSync(path.join(os.tmpdir(), "orbifold-chromium-"));
+  context = await chromium.launchPersistentContext(userData, {
+    executablePath,
+    headless: true,
+    viewport: VIEWPORT,
+    acceptDownloads: true,
+    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync", "--no-first-run",
+      // WebGL2 on the CPU, which Chromium otherwise refuses without a GPU.
+      "--enable-unsafe-swiftshader"],
+  });
+  page = context.pages()[0] ?? await context.newPage();
+  page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(base);
+  await page.waitForSelector("#loading", { state: "detached", timeout: SLOW });
+  await frames(20);
+}, { timeout: SLOW });
+
+after(async () => {
+  await context?.close();
+  server?.close();
+  if (userData) fs.rmSync(userData, { recursive: true, force: true });
+});
+
+test("the page loads without console errors and the canvas is not blank", { timeout: SLOW }, async () => {
+  const whole = await settled(MIDDLE);
+  await shot("start", FULL);
+  assert.deepEqual(errors, [], "console errors");
+  const middle = await compare(whole);
+  assert.ok(middle.spread > 10, `the 3D view is blank: ${JSON.stringify(middle)}`);
+  const left = await compare(await shot("start-left", LEFT));
+  assert.ok(left.spread > 10, `the design panel is blank: ${JSON.stringify(left)}`);
+  assert.match(await page.title(), /untitled — orbifold studio/);
+});
+
+test("typing a signature changes the layout and the 3D view", { timeout: SLOW }, async () => {
+  const layoutBefore = await page.screenshot({ clip: LEFT });
+  const viewBefore = await settled(MIDDLE);
+  await page.mouse.click(SIGNATURE.x, SIGNATURE.y);
+  await page.keyboard.press("Control+A");
+  await page.keyboard.type("*333");
+  await page.keyboard.press("Enter");
+  await frames(10);
+  const viewAfter = await settled(MIDDLE);
+  const layoutAfter = await shot("signature-left", LEFT);
+  await shot("signature", FULL);
+  const layout = await compare(layoutAfter, layoutBefore);
+  const view = await compare(viewAfter, viewBefore);
+  assert.ok(layout.changed > 0.02, `the layout did not change: ${JSON.stringify(layout)}`);
+  assert.ok(view.changed > 0.05, `the 3D view did not change: ${JSON.stringify(view)}`);
+  assert.ok(view.spread > 10 && (await compare(viewAfter)).spread > 10, "the new 3D view is blank");
+  // Unsaved work goes to the browser's storage, offered again after a crash.
+  const kept = await page.evaluate(() => localStorage.getItem("orbifold-studio/recovery"));
+  assert.match(kept ?? "", /signature = "\*333"/);
+  assert.match(await page.title(), /untitled • — orbifold studio/);
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("the render tab produces a picture", { timeout: SLOW }, async () => {
+  await page.mouse.click(RENDER_TAB.x, RENDER_TAB.y);
+  await frames(5);
+  const empty = await page.screenshot({ clip: MIDDLE });
+  await page.mouse.click(RENDER_BUTTON.x, RENDER_BUTTON.y);
+  const picture = await settled(MIDDLE);
+  await shot("render", FULL);
+  const result = await compare(picture, empty);
+  assert.ok(result.changed > 0.1, `no picture appeared: ${JSON.stringify(result)}`);
+  assert.ok((await compare(picture)).spread > 10, "the picture is blank");
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("a scene file opened through the file input loads", { timeout: SLOW }, async () => {
+  await page.mouse.click(VIEW_TAB.x, VIEW_TAB.y);
+  const before = await settled(MIDDLE);
+  const leftBefore = await page.screenshot({ clip: LEFT });
+  await page.setInputFiles("#open-scene", path.join(root, "examples/scenes/fig-8.8-2233.toml"));
+  await page.waitForFunction(() => document.title.startsWith("fig-8.8-2233.toml"), null, { timeout: SLOW });
+  const after = await settled(MIDDLE);
+  await shot("opened", FULL);
+  assert.ok((await compare(await page.screenshot({ clip: LEFT }), leftBefore)).changed > 0.02,
+    "the design panel did not change");
+  assert.ok((await compare(after, before)).changed > 0.05, "the 3D view did not change");
+  // A saved (just opened) document leaves nothing to recover.
+  assert.equal(await page.evaluate(() => localStorage.getItem("orbifold-studio/recovery")), null);
+  assert.deepEqual(errors, [], "console errors");
+});
