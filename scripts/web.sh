@@ -11,11 +11,12 @@
 # compile meshoptimizer's C++ for WebAssembly. Runs wasm-opt -Os on the module when wasm-opt is
 # installed (binaryen); it is optional.
 #
-# WEB_PROFILE picks the cargo profile (default `web`: the release profile, optimised for size).
+# WEB_PROFILE picks the cargo profile (default `web-release`: the release profile, optimised for
+# size).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-profile=${WEB_PROFILE:-web}
+profile=${WEB_PROFILE:-web-release}
 
 usage() {
   sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'

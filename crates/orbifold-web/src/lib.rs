@@ -13,3 +13,5 @@ pub mod files;
 
 #[cfg(target_arch = "wasm32")]
 mod web;
+#[cfg(target_arch = "wasm32")]
+mod cxx;
