@@ -86,9 +86,16 @@ async function shot(name, clip) {
 
 // Where the studio's parts are in a 1280×800 window (egui lays them out the same every time):
 // the left panel (design and layout), the middle (3D view, tiling, render) and its tab row.
-const LEFT = { x: 0, y: 60, width: 300, height: 700 };
-const MIDDLE = { x: 320, y: 100, width: 600, height: 640 };
+const LEFT = { x: 0, y: 50, width: 295, height: 720 };
+const MIDDLE = { x: 308, y: 104, width: 596, height: 656 };
 const FULL = { x: 0, y: 0, ...VIEWPORT };
+// Widgets clicked: the signature field, the tabs, and in the render tab the width field and
+// the Render button.
+const SIGNATURE = { x: 140, y: 86 };
+const VIEW_TAB = { x: 338, y: 68 };
+const RENDER_TAB = { x: 458, y: 68 };
+const RENDER_WIDTH = { x: 410, y: 91 };
+const RENDER_BUTTON = { x: 872, y: 91 };
 
 /** Waits until `n` more frames have been drawn (a few animation frames). */
 async function frames(n = 10) {
@@ -176,6 +183,12 @@ test("typing a signature changes the layout and the 3D view", { timeout: SLOW },
 
 test("the render tab produces a picture", { timeout: SLOW }, async () => {
   await page.mouse.click(RENDER_TAB.x, RENDER_TAB.y);
+  await frames(5);
+  // A small picture, so that a round of samples on one core in SwiftShader's company is quick.
+  await page.mouse.click(RENDER_WIDTH.x, RENDER_WIDTH.y);
+  await page.keyboard.press("Control+A");
+  await page.keyboard.type("200");
+  await page.keyboard.press("Enter");
   await frames(5);
   const empty = await page.screenshot({ clip: MIDDLE });
   await page.mouse.click(RENDER_BUTTON.x, RENDER_BUTTON.y);

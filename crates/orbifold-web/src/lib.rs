@@ -12,6 +12,6 @@
 pub mod files;
 
 #[cfg(target_arch = "wasm32")]
-mod web;
-#[cfg(target_arch = "wasm32")]
 mod cxx;
+#[cfg(target_arch = "wasm32")]
+mod web;
