@@ -221,3 +221,23 @@ test("a scene file opened through the file input loads", { timeout: SLOW }, asyn
   assert.equal(await page.evaluate(() => localStorage.getItem("orbifold-studio/recovery")), null);
   assert.deepEqual(errors, [], "console errors");
 });
+
+test("a scene file dropped on the page opens, a mesh is refused", { timeout: SLOW }, async () => {
+  const drop = (name, text) => page.evaluate(([n, t]) => {
+    const data = new DataTransfer();
+    data.items.add(new File([t], n, { type: "application/octet-stream" }));
+    const canvas = document.getElementById("studio");
+    for (const type of ["dragenter", "dragover", "drop"]) {
+      canvas.dispatchEvent(new DragEvent(type, { dataTransfer: data, bubbles: true, cancelable: true }));
+    }
+  }, [name, text]);
+  const scene = fs.readFileSync(path.join(root, "examples/scenes/fig-1.2-444.toml"), "utf8");
+  await drop("fig-1.2-444.toml", scene);
+  await page.waitForFunction(() => document.title.startsWith("fig-1.2-444.toml"), null, { timeout: SLOW });
+  // A mesh cannot be used in the browser: the document stays as it is.
+  await drop("bunny.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  await frames(20);
+  assert.match(await page.title(), /^fig-1\.2-444\.toml — orbifold studio$/);
+  await shot("dropped", FULL);
+  assert.deepEqual(errors, [], "console errors");
+});

@@ -69,6 +69,12 @@ impl Studio {
         self.render_size
     }
 
+    /// Sets the width in pixels of the next render (its height too when it is not framed as
+    /// the 3D view). The web studio starts smaller: its renders run on one thread.
+    pub fn set_render_size(&mut self, size: (u32, u32)) {
+        self.render_size = size;
+    }
+
     /// The last picture rendered so far (width, height, RGBA8 as shown), if a render has
     /// shown one.
     pub fn rendered_picture(&self) -> Option<(u32, u32, Vec<u8>)> {

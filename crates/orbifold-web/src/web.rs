@@ -89,6 +89,10 @@ struct WebStudio {
 impl WebStudio {
     fn new(cc: &eframe::CreationContext<'_>) -> WebStudio {
         let mut studio = Studio::new(Document::new(None), None);
+        // Half the desktop's width: a round of samples (a sample for every pixel) is taken
+        // between two frames on the page's one thread, and a quarter of the pixels keeps the
+        // page answering (docs/web.md).
+        studio.set_render_size((240, 180));
         if let Some(state) = &cc.wgpu_render_state {
             studio.view.use_window_gpu(state);
         }
