@@ -129,9 +129,7 @@ before(async () => {
     viewport: VIEWPORT,
     acceptDownloads: true,
     args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync", "--no-first-run",
-      // WebGL2 on the CPU, which Chromium otherwise refuses without a GPU.
-      "--enable-unsafe-swiftshader"],
+      "--disable-component-update", "--disable-sync", "--no-first-run"],
   });
   page = context.pages()[0] ?? await context.newPage();
   page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
