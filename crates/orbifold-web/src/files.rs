@@ -87,13 +87,12 @@ mod tests {
 
     #[test]
     fn a_scene_reads_from_its_bytes_and_a_bad_one_says_where() {
-        let scene = scene("room.toml", b"[orbifold]\nsignature = \"*2223\"\n").unwrap();
-        assert_eq!(scene.orbifold.signature, "*2223");
+        let text = include_str!("../../../examples/scenes/fig-1.2-333.toml");
+        let scene = scene("fig-1.2-333.toml", text.as_bytes()).unwrap();
+        assert_eq!(scene.orbifold.signature, "*333");
         let error = scene_error("room.toml", b"[orbifold]\nsignature = 3\n");
-        assert!(
-            error.contains("room.toml") && error.contains("signature"),
-            "{error}"
-        );
+        // The file, line and column of the wrong value.
+        assert!(error.starts_with("room.toml:2:13:"), "{error}");
         assert!(scene_error("room.toml", &[0xff, 0xfe]).contains("UTF-8"));
     }
 
