@@ -93,6 +93,7 @@ const FULL = { x: 0, y: 0, ...VIEWPORT };
 // the Render button.
 const SIGNATURE = { x: 140, y: 86 };
 const VIEW_TAB = { x: 338, y: 68 };
+const TILING_TAB = { x: 400, y: 68 };
 const RENDER_TAB = { x: 458, y: 68 };
 const RENDER_WIDTH = { x: 410, y: 91 };
 const RENDER_BUTTON = { x: 872, y: 91 };
@@ -182,6 +183,26 @@ test("typing a signature changes the layout and the 3D view", { timeout: SLOW },
   const kept = await page.evaluate(() => localStorage.getItem("orbifold-studio/recovery"));
   assert.match(kept ?? "", /signature = "\*333"/);
   assert.match(await page.title(), /untitled • — orbifold studio/);
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("walking with W moves the 3D view, the tiling tab draws the cover", { timeout: SLOW }, async () => {
+  const standing = await settled(MIDDLE);
+  // Keys walk while the pointer is over the view.
+  await page.mouse.move(MIDDLE.x + MIDDLE.width / 2, MIDDLE.y + MIDDLE.height / 2);
+  await page.keyboard.down("w");
+  await page.waitForTimeout(1500);
+  await page.keyboard.up("w");
+  const walked = await settled(MIDDLE);
+  await shot("walked", FULL);
+  const moved = await compare(walked, standing);
+  assert.ok(moved.changed > 0.05, `the view did not move: ${JSON.stringify(moved)}`);
+  await click(TILING_TAB);
+  const tiling = await settled(MIDDLE);
+  await shot("tiling", FULL);
+  const drawn = await compare(tiling, walked);
+  assert.ok(drawn.changed > 0.1, `the tiling tab did not open: ${JSON.stringify(drawn)}`);
+  assert.ok((await compare(tiling)).spread > 10, "the tiling is blank");
   assert.deepEqual(errors, [], "console errors");
 });
 
