@@ -94,6 +94,8 @@ const FULL = { x: 0, y: 0, ...VIEWPORT };
 const SIGNATURE = { x: 140, y: 86 };
 const VIEW_TAB = { x: 338, y: 68 };
 const TILING_TAB = { x: 400, y: 68 };
+// The "Restore" button of the window that offers unsaved work after a reload.
+const RESTORE = { x: 53, y: 100 };
 const RENDER_TAB = { x: 458, y: 68 };
 const RENDER_WIDTH = { x: 410, y: 91 };
 const RENDER_BUTTON = { x: 872, y: 91 };
@@ -271,5 +273,28 @@ test("a scene file dropped on the page opens, a mesh is refused", { timeout: SLO
   await frames(20);
   assert.match(await page.title(), /^fig-1\.2-444\.toml — orbifold studio$/);
   await shot("dropped", FULL);
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("unsaved work survives a reload of the page and is restored", { timeout: SLOW }, async () => {
+  await click(SIGNATURE);
+  await page.keyboard.press("Control+A");
+  await page.keyboard.type("*2224");
+  await page.keyboard.press("Enter");
+  await page.waitForFunction(() => document.title.includes("•"), null, { timeout: SLOW });
+  const kept = await page.evaluate(() => localStorage.getItem("orbifold-studio/recovery"));
+  assert.match(kept ?? "", /signature = "\*2224"/);
+  // A reload is what a crash of the tab leaves: the work is offered back.
+  await page.reload();
+  await page.waitForSelector("#loading", { state: "detached", timeout: SLOW });
+  await frames(20);
+  assert.match(await page.title(), /^untitled — orbifold studio$/);
+  const offered = await page.screenshot({ clip: LEFT });
+  await shot("recovery", FULL);
+  await click(RESTORE);
+  await page.waitForFunction(() => document.title.startsWith("untitled •"), null, { timeout: SLOW });
+  await frames(10);
+  const restored = await page.screenshot({ clip: LEFT });
+  assert.ok((await compare(restored, offered)).changed > 0.02, "the design panel did not change");
   assert.deepEqual(errors, [], "console errors");
 });
