@@ -82,6 +82,18 @@ impl Studio {
         self.render_size
     }
 
+    /// Sets the width in pixels of the next render (its height too when it is not framed as
+    /// the 3D view). The web studio starts smaller: its renders run on one thread.
+    pub fn set_render_size(&mut self, size: (u32, u32)) {
+        self.render_size = size;
+    }
+
+    /// The last picture rendered so far (width, height, RGBA8 as shown), if a render has
+    /// shown one.
+    pub fn rendered_picture(&self) -> Option<(u32, u32, Vec<u8>)> {
+        self.render.as_ref()?.picture()
+    }
+
     /// A studio on a document. `data` is the studio's own folder (recent files, recovery);
     /// `None` keeps nothing (tests).
     pub fn new(document: Document, data: Option<PathBuf>) -> Studio {
@@ -457,6 +469,16 @@ impl Studio {
 
     fn middle(&mut self, ui: &mut Ui) {
         self.listen.collect(ui.ctx());
+        // In the browser the render takes its rounds here, between frames, whichever tab is
+        // shown (on the desktop it has its own thread and this does nothing).
+        if let Some(job) = &mut self.render
+            && !job.is_done()
+        {
+            job.step();
+            if cfg!(target_arch = "wasm32") {
+                ui.ctx().request_repaint();
+            }
+        }
         ui.horizontal(|ui| {
             ui.selectable_value(&mut self.tab, Tab::View, "3D view");
             ui.selectable_value(&mut self.tab, Tab::Tiling, "tiling");

@@ -227,6 +227,25 @@ impl Document {
         Ok(())
     }
 
+    /// Records that the scene as it is now was saved as `path` by someone else (the web studio
+    /// hands it to the browser as a download): it becomes the document's name, and the
+    /// document is no longer dirty.
+    ///
+    /// ```
+    /// use orbifold_studio::document::Document;
+    /// let mut doc = Document::new(None);
+    /// doc.edit(|scene| scene.room.height = 2.0);
+    /// doc.mark_saved("room.toml".into());
+    /// assert!(!doc.is_dirty());
+    /// assert_eq!(doc.title(), "room.toml");
+    /// ```
+    pub fn mark_saved(&mut self, path: PathBuf) {
+        self.path = Some(path);
+        self.saved = self.scene.clone();
+        self.remove_recovery();
+        self.revision += 1;
+    }
+
     /// Writes the recovery copy if there are unsaved changes (and removes it if there are
     /// none). Errors are returned for the status line; they never stop editing.
     pub fn write_recovery(&self) -> Result<(), String> {

@@ -182,9 +182,14 @@ impl ListenPanel {
         };
         let (send, receive) = channel();
         let base = base.map(Path::to_path_buf);
-        std::thread::spawn(move || {
+        let work = move || {
             let _ = send.send(hear(&scene, base.as_deref()));
-        });
+        };
+        // The browser has no threads: the echoes are found at once, holding the page a moment.
+        #[cfg(not(target_arch = "wasm32"))]
+        std::thread::spawn(work);
+        #[cfg(target_arch = "wasm32")]
+        work();
         self.job = Some(receive);
     }
 

@@ -18,10 +18,21 @@ const WALK_SPEED: f64 = 0.5;
 /// How fast keys turn (degrees per second).
 const TURN_SPEED: f64 = 60.0;
 
+/// The window's GPU, when the preview draws on it: its frame is then shown as a wgpu texture
+/// registered with egui's renderer, with no copy back to the CPU. The web studio needs this
+/// (the browser cannot wait for a GPU copy inside a frame, nor open a second device), the
+/// desktop studio draws on a device of its own and copies the frame back.
+struct WindowGpu {
+    state: eframe::egui_wgpu::RenderState,
+    /// The preview's colour image as egui knows it.
+    texture: Option<egui::TextureId>,
+}
+
 /// The 3D view's state.
 pub struct View3d {
     preview: Option<Result<Preview, String>>,
     texture: Option<egui::TextureHandle>,
+    window: Option<WindowGpu>,
     /// The camera the view shows (walking moves it).
     pub camera: Camera,
     /// Reflections deep.
@@ -54,6 +65,7 @@ impl View3d {
         View3d {
             preview: None,
             texture: None,
+            window: None,
             camera: scene.camera.clone(),
             depth: scene.preview.depth,
             attenuation: scene.preview.attenuation,
@@ -69,8 +81,23 @@ impl View3d {
     /// Starts again from a scene (after opening a document).
     pub fn reset(&mut self, scene: &Scene) {
         let preview = self.preview.take();
+        let window = self.window.take();
         *self = View3d::new(scene);
         self.preview = preview;
+        self.window = window;
+    }
+
+    /// Draws the preview on the window's GPU (eframe's wgpu device) and shows its frames
+    /// without copying them back to the CPU, in place of a device of its own: what the web
+    /// studio does.
+    pub fn use_window_gpu(&mut self, state: &eframe::egui_wgpu::RenderState) {
+        self.window = Some(WindowGpu {
+            state: state.clone(),
+            texture: None,
+        });
+        self.preview = None;
+        self.drawn = None;
+        self.loaded = None;
     }
 
     /// The adapter the preview draws on, once it has drawn.
@@ -116,10 +143,14 @@ impl View3d {
         );
         self.walk(ui, &response, scene);
         self.redraw(ui, scene, base, revision, [w, h]);
-        match &self.texture {
+        let shown = match &self.window {
+            Some(window) => window.texture,
+            None => self.texture.as_ref().map(egui::TextureHandle::id),
+        };
+        match shown.filter(|_| self.error.is_none()) {
             Some(texture) => {
                 ui.painter().image(
-                    texture.id(),
+                    texture,
                     rect,
                     egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                     Color32::WHITE,
@@ -211,9 +242,15 @@ impl View3d {
             return;
         }
         self.drawn = Some(key);
-        let preview = self
-            .preview
-            .get_or_insert_with(|| Gpu::headless().map(Preview::new).map_err(|e| e.to_string()));
+        let window = &mut self.window;
+        let preview = self.preview.get_or_insert_with(|| match window.as_ref() {
+            Some(w) => Ok(Preview::new(Gpu::from_parts(
+                w.state.device.clone(),
+                w.state.queue.clone(),
+                w.state.adapter.get_info(),
+            ))),
+            None => Gpu::headless().map(Preview::new).map_err(|e| e.to_string()),
+        });
         let preview = match preview {
             Ok(p) => p,
             Err(e) => {
@@ -221,7 +258,7 @@ impl View3d {
                 return;
             }
         };
-        let result = (|| -> Result<Vec<u8>, orbifold_preview::PreviewError> {
+        let result = (|| -> Result<Option<Vec<u8>>, orbifold_preview::PreviewError> {
             if self.loaded.as_ref().is_none_or(|(r, _)| *r != revision) {
                 let before = self.loaded.take().map(|(_, s)| s);
                 update(preview, before.as_ref(), scene, base)?;
@@ -237,11 +274,36 @@ impl View3d {
                 Projection::Curved
             };
             preview.set_settings(settings)?;
-            // Colours only: the surface ids would draw every triangle a second time.
-            preview.render_colors(size[0] as u32, size[1] as u32)
+            let (width, height) = (size[0] as u32, size[1] as u32);
+            match window {
+                Some(window) => {
+                    let texture = preview.draw(width, height)?;
+                    let view = texture.create_view(&Default::default());
+                    let mut renderer = window.state.renderer.write();
+                    let device = &window.state.device;
+                    let filter = eframe::wgpu::FilterMode::Linear;
+                    match window.texture {
+                        Some(id) => {
+                            renderer
+                                .update_egui_texture_from_wgpu_texture(device, &view, filter, id);
+                        }
+                        None => {
+                            window.texture =
+                                Some(renderer.register_native_texture(device, &view, filter));
+                        }
+                    }
+                    Ok(None)
+                }
+                // Colours only: the surface ids would draw every triangle a second time.
+                None => preview.render_colors(width, height).map(Some),
+            }
         })();
         match result {
-            Ok(rgba) => {
+            Ok(None) => {
+                self.stats = Some(preview.stats());
+                self.error = None;
+            }
+            Ok(Some(rgba)) => {
                 let image = egui::ColorImage::from_rgba_unmultiplied(size, &rgba);
                 match &mut self.texture {
                     Some(t) => t.set(image, egui::TextureOptions::LINEAR),
