@@ -22,6 +22,10 @@ pub enum Dropped {
 /// What the files dropped in this frame ask for, in order. (In a browser a dropped file's
 /// path is its name only: the web build reads such files itself.)
 pub fn dropped(ctx: &egui::Context) -> Vec<Dropped> {
+    if cfg!(target_arch = "wasm32") {
+        // Names without a file system behind them: the web build (orbifold-web) reads the bytes.
+        return Vec::new();
+    }
     let files = ctx.input(|i| i.raw.dropped_files.clone());
     files.iter().map(|file| classify(file.path())).collect()
 }
