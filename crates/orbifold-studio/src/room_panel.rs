@@ -15,7 +15,12 @@ use crate::layout_view::wall_colour;
 /// an image) is asked for through [`take_pick`].
 pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     let mut next = scene.clone();
-    let walls = scene.layout().map_or(0, |l| l.edges.len());
+    let layout = scene.layout().ok();
+    let walls = layout.as_ref().map_or(0, |l| l.edges.len());
+    // The partner of each wall that is a portal (a wall the orbifold's group pairs with another).
+    let partners: Vec<Option<usize>> = (0..walls)
+        .map(|w| layout.as_ref().and_then(|l| l.edges[w].partner()))
+        .collect();
     ui.heading("Room");
     egui::Grid::new("room").num_columns(2).show(ui, |ui| {
         labelled_value(ui, "height", &mut next.room.height, 0.05..=20.0, 0.01);
@@ -49,8 +54,8 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     egui::CollapsingHeader::new("Walls and mirrors")
         .default_open(true)
         .show(ui, |ui| {
-            for w in 0..walls {
-                wall(ui, &mut next, w);
+            for (w, &partner) in partners.iter().enumerate() {
+                wall(ui, &mut next, w, partner);
             }
         });
     egui::CollapsingHeader::new("Objects")
@@ -370,14 +375,21 @@ fn material(ui: &mut Ui, name: &str, material: &mut Material, target: Target, gl
     });
 }
 
-/// Wall `w`: its mirrors, each with extent and reflectance.
-fn wall(ui: &mut Ui, scene: &mut Scene, w: usize) {
+/// Wall `w`: its mirrors, each with extent and reflectance; for a portal (`partner`: the wall
+/// it leads to), what it is, and the mirrors hung on it.
+fn wall(ui: &mut Ui, scene: &mut Scene, w: usize, partner: Option<usize>) {
     let mut mirrors = scene.wall_mirrors(w);
     let before = mirrors.clone();
     ui.horizontal(|ui| {
         let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
         ui.painter().rect_filled(rect, 2.0, wall_colour(w));
-        ui.label(format!("wall {w}: {} mirror(s)", mirrors.len()));
+        match partner {
+            Some(to) => ui.label(format!(
+                "wall {w}: portal to wall {to}, {} mirror(s)",
+                mirrors.len()
+            )),
+            None => ui.label(format!("wall {w}: {} mirror(s)", mirrors.len())),
+        };
         if ui.button(format!("add mirror to wall {w}")).clicked() {
             mirrors.push(Mirror {
                 reflectance: scene.room.reflectance,

@@ -404,6 +404,13 @@ fn a_conway_symbol_typed_in_the_design_panel_builds_a_room_with_portals() {
             .next()
             .is_some()
     );
+    // The room panel names each wall's partner.
+    assert!(
+        harness
+            .query_all_by_label_contains("wall 0: portal to wall 3")
+            .next()
+            .is_some()
+    );
     let inside = |at: [f64; 2]| {
         let p = layout
             .space()
