@@ -97,8 +97,8 @@ pressure (the direct sound at one metre is 1/(4π)), the surfaces met in order (
 
 #[derive(Debug, Args)]
 pub struct ListenArgs {
-    /// A scene file (`.toml`) or a signature (its default room); the built-in default scene
-    /// without one.
+    /// A scene file (`.toml`) or a kaleidoscopic signature (its default room; rooms with portals
+    /// are not heard yet); the built-in default scene without one.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
     /// The WAV file to write.
@@ -143,7 +143,8 @@ preview runs on Mesa's software Vulkan driver (Debian: mesa-vulkan-drivers libvu
 
 #[derive(Debug, Args)]
 pub struct PreviewArgs {
-    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    /// A scene file (`.toml`) or an orbifold symbol (`*632`, `632`, `22×`: a room of mirrors, or
+    /// of portals where the group pairs walls); absent: the built-in default scene.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
     /// The picture to write (.png or .jpg).
@@ -301,7 +302,8 @@ pub struct ImageArgs {
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    /// A scene file (`.toml`) or an orbifold symbol (`*632`, `632`, `22×`: a room of mirrors, or
+    /// of portals where the group pairs walls); absent: the built-in default scene.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
     /// The image to write: `.png` (tone-mapped, 8-bit sRGB), `.jpg` (the same, smaller) or
@@ -343,7 +345,8 @@ the frame under way without writing it.
 
 #[derive(Debug, Args)]
 pub struct AnimateArgs {
-    /// A scene file (`.toml`) or a signature; absent: the built-in default scene.
+    /// A scene file (`.toml`) or an orbifold symbol (`*632`, `632`, `22×`: a room of mirrors, or
+    /// of portals where the group pairs walls); absent: the built-in default scene.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
     /// `walls`, `orbit`, `turn`, or a keyframe file.
@@ -402,11 +405,14 @@ Rays are unit-speed geodesics: the height grows linearly with the intrinsic arc 
 are listed in order: `wall I` (I is the edge index of `orbifold layout`), `floor`, `ceiling` or
 `object NAME`, whether it was a mirror, the model point x, y, the height h and the cumulative
 arc length s. A mirror reflects the ray (its horizontal direction across the wall; the
-elevation is kept); the ray ends at the first surface that is not a mirror, after --bounces
-reflections, or when it runs out through an ideal corner. With a bare signature the room is the
-default layout of `orbifold layout SIG`, every wall a full mirror.
+elevation is kept); a portal (a wall the orbifold's group pairs with another, as in `632` or
+`22×`) carries it on from its partner wall, moved by the pairing. The ray ends at the first
+surface that is not a mirror or a portal, after --bounces of them, or when it runs out through
+an ideal corner. With a bare symbol the room is the default layout of `orbifold layout SIG`,
+every mirror wall a full mirror and every paired wall a portal.
 
-JSON: {\"hits\": [{\"surface\", \"mirror\", \"x\", \"y\", \"h\", \"s\", \"throughput\"}], \"end\"}.
+JSON: {\"hits\": [{\"surface\", \"mirror\", \"kind\" (mirror, portal or surface), \"to\" (a
+portal's partner wall), \"x\", \"y\", \"h\", \"s\", \"throughput\"}], \"end\"}.
 AOV channels: Z (geodesic depth), P.X P.Y P.Z (model x, y, height), N.X N.Y N.Z (normal in the
 local frame), id (0 floor, 1 ceiling, 2+i wall i, 1000+j object j, -1 none), bounces.";
 
