@@ -430,7 +430,7 @@ pub struct TraceArgs {
     /// Elevation in degrees, positive upwards (default: the camera's).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub pitch: Option<f64>,
-    /// The most mirror reflections to follow.
+    /// The most mirror reflections and portal crossings to follow.
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub bounces: usize,
     /// The room's height (default: the scene's, 1).
