@@ -254,22 +254,8 @@ pub fn render_group(
     view: &View,
     motif: Option<&Motif>,
 ) -> Result<Picture, String> {
-    if !view.model.shows(polygon.geometry) {
-        return Err(format!(
-            "the {:?} model does not show the {} plane",
-            view.model, polygon.geometry
-        ));
-    }
-    if !(view.zoom.is_finite() && view.zoom > 0.0) {
-        return Err(format!(
-            "the zoom must be a positive number, not {}",
-            view.zoom
-        ));
-    }
+    view.check(polygon.geometry)?;
     let fold = GroupFold::new(polygon);
-    if fold.space.kappa() < 0.0 && view.center.norm() >= 1.0 {
-        return Err("the view centre must lie inside the Poincaré disk".into());
-    }
     let recentre = Isometry::translation(fold.space, view.center);
     let size = view.size as usize;
     let mut rgba = vec![0u8; size * size * 4];

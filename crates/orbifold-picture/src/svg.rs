@@ -424,20 +424,15 @@ fn paired_edge_points(
 
 /// Letters for the paired edges: an edge and its partner share one (a, b, c, …); mirrors none.
 fn pairing_letters(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Option<char>> {
-    use orbifold::pairing::EdgeKind;
-    let mut letters = vec![None; polygon.edges.len()];
-    let mut next = 0u8;
-    for (i, e) in polygon.edges.iter().enumerate() {
-        if let EdgeKind::Paired { partner } = e.kind
-            && letters[i].is_none()
-        {
-            let letter = (b'a' + next % 26) as char;
-            next += 1;
-            letters[i] = Some(letter);
-            letters[partner] = Some(letter);
-        }
-    }
-    letters
+    let partners: Vec<Option<usize>> = polygon
+        .edges
+        .iter()
+        .map(|e| match e.kind {
+            orbifold::pairing::EdgeKind::Paired { partner } => Some(partner),
+            orbifold::pairing::EdgeKind::Mirror => None,
+        })
+        .collect();
+    orbifold::pairing::pair_letters(&partners)
 }
 
 /// An SVG of the tiles of any orbifold group in its conformal model (Poincaré disk,
@@ -657,7 +652,8 @@ fn draw_pairings(
             line.join(" ")
         );
         if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
-            let forward = e.reverses_orientation() || i < partner;
+            let forward =
+                orbifold::pairing::arrow_runs_forward(i, partner, e.reverses_orientation());
             let mid = px.len() / 2;
             let (a, b) = (px[mid.saturating_sub(1)], px[(mid + 1).min(px.len() - 1)]);
             let ((x0, y0), (x1, y1)) = if forward { (a, b) } else { (b, a) };

@@ -88,6 +88,27 @@ pub struct View {
 }
 
 impl View {
+    /// Whether this view can show a plane of `geometry`: its model shows that plane, its zoom
+    /// is a positive number, and in the Poincaré disk its centre lies inside the disk.
+    pub fn check(&self, geometry: orbifold::Geometry) -> Result<(), String> {
+        if !self.model.shows(geometry) {
+            return Err(format!(
+                "the {:?} model does not show the {} plane",
+                self.model, geometry
+            ));
+        }
+        if !(self.zoom.is_finite() && self.zoom > 0.0) {
+            return Err(format!(
+                "the zoom must be a positive number, not {}",
+                self.zoom
+            ));
+        }
+        if geometry == orbifold::Geometry::Hyperbolic && self.center.norm() >= 1.0 {
+            return Err("the view centre must lie inside the Poincaré disk".into());
+        }
+        Ok(())
+    }
+
     /// The default view of a geometry at the given size.
     pub fn new(geometry: Geometry, size: u32) -> Self {
         View {
@@ -223,23 +244,9 @@ pub fn render(layout: &Layout, view: &View, motif: Option<&Motif>) -> Result<Pic
         );
         return crate::group::render_group(&polygon, view, motif);
     }
-    if !view.model.shows(layout.geometry) {
-        return Err(format!(
-            "the {:?} model does not show the {} plane",
-            view.model, layout.geometry
-        ));
-    }
-    if !(view.zoom.is_finite() && view.zoom > 0.0) {
-        return Err(format!(
-            "the zoom must be a positive number, not {}",
-            view.zoom
-        ));
-    }
+    view.check(layout.geometry)?;
     let fold = Fold::new(layout);
     let space = fold.space;
-    if space.kappa() < 0.0 && view.center.norm() >= 1.0 {
-        return Err("the view centre must lie inside the Poincaré disk".into());
-    }
     let recentre = orbifold::isometry::Isometry::translation(space, view.center);
     let size = view.size as usize;
     let mut rgba = vec![0u8; size * size * 4];

@@ -149,11 +149,8 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
 /// reverses orientation (a glide), which keeps them.
 fn portal_arrow(layout: &Layout, i: usize, points: &[Pos2]) -> Option<(Pos2, Vec2)> {
     let partner = layout.edges[i].partner()?;
-    let forward = if i <= partner {
-        true
-    } else {
-        layout.edges[partner].neighbour.determinant() < 0.0
-    };
+    let reverses = layout.edges[i].neighbour.determinant() < 0.0;
+    let forward = orbifold::pairing::arrow_runs_forward(i, partner, reverses);
     let middle = points.len() / 2;
     let (a, b) = (
         points.get(middle.saturating_sub(1))?,

@@ -763,18 +763,15 @@ fn paired_svg(polygon: &FundamentalPolygon, title: &str, size: u32) -> String {
         svg,
         r##"<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="#c0392b"/></marker></defs>"##
     );
-    let mut letters = vec![None; polygon.edges.len()];
-    let mut next = 0u8;
-    for (i, e) in polygon.edges.iter().enumerate() {
-        if let EdgeKind::Paired { partner } = e.kind
-            && letters[i].is_none()
-        {
-            let letter = (b'a' + next % 26) as char;
-            next += 1;
-            letters[i] = Some(letter);
-            letters[partner] = Some(letter);
-        }
-    }
+    let partners: Vec<Option<usize>> = polygon
+        .edges
+        .iter()
+        .map(|e| match e.kind {
+            EdgeKind::Paired { partner } => Some(partner),
+            EdgeKind::Mirror => None,
+        })
+        .collect();
+    let letters = orbifold::pairing::pair_letters(&partners);
     for (i, (e, points)) in polygon.edges.iter().zip(&edges).enumerate() {
         let d: Vec<String> = points
             .iter()
@@ -793,10 +790,8 @@ fn paired_svg(polygon: &FundamentalPolygon, title: &str, size: u32) -> String {
             d.join(" ")
         );
         if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
-            // An orientation-preserving pairing takes the partner's start to this edge's end:
-            // the arrow runs forwards on the lower-numbered edge, backwards on the other; a
-            // glide keeps the direction, so both arrows run forwards.
-            let forward = e.reverses_orientation() || i < partner;
+            let forward =
+                orbifold::pairing::arrow_runs_forward(i, partner, e.reverses_orientation());
             let mid = points.len() / 2;
             let (a, b) = (
                 points[mid.saturating_sub(1)],

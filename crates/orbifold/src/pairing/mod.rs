@@ -253,6 +253,39 @@ pub(crate) struct Draft {
     pub(crate) construction: Construction,
 }
 
+/// The textbooks' labels of side pairings: letters a, b, c, … for the pairs of paired edges, in
+/// the order of their lower edge, given each edge's partner (`None` for a mirror, which gets no
+/// letter).
+///
+/// ```
+/// use orbifold::pairing::pair_letters;
+/// assert_eq!(pair_letters(&[Some(3), None, Some(2), Some(0)]), [Some('a'), None, Some('b'), Some('a')]);
+/// ```
+pub fn pair_letters(partners: &[Option<usize>]) -> Vec<Option<char>> {
+    let mut letters = vec![None; partners.len()];
+    let mut next = 0u8;
+    for (i, partner) in partners.iter().enumerate() {
+        if let Some(j) = *partner
+            && letters[i].is_none()
+        {
+            let letter = (b'a' + next % 26) as char;
+            next += 1;
+            letters[i] = Some(letter);
+            letters[j] = Some(letter);
+        }
+    }
+    letters
+}
+
+/// Whether the textbooks' arrow on paired edge `i` (partner `partner`) runs from its first
+/// corner to its second, so that the pairing takes the partner's arrow onto this one's: the
+/// lower edge of a pair runs forwards; an orientation-preserving pairing takes the partner's
+/// first corner to this edge's second, so the other runs backwards; a glide (`reverses`) keeps
+/// the direction, so both run forwards.
+pub fn arrow_runs_forward(i: usize, partner: usize, reverses: bool) -> bool {
+    reverses || i < partner
+}
+
 /// How a draft's edge is glued.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Glue {
