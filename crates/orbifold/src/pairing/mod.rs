@@ -17,6 +17,7 @@
 //! | `2*mn`, `2*m`, `2*` | the triangle π/m, β, γ (β + γ = π/n) of mirrors, its third side folded by a half-turn |
 //! | `NN`, `N×`, `×` | a lune, its sides paired by a rotation (NN) or a rotatory reflection (N×) |
 //! | `o` | a parallelogram, opposite sides paired by the lattice's translations |
+//! | `2222` | half a lattice parallelogram, two sides folded by half-turns, two paired by a translation |
 //! | everything else | the *star* ([`star`]): sectors around a centre, one per feature |
 //!
 //! ```
@@ -163,6 +164,8 @@ pub enum Construction {
     Lune,
     /// `o` (p1): a parallelogram, opposite sides paired by translations.
     Parallelogram,
+    /// `2222` (p2): half a lattice parallelogram, two sides folded by half-turns.
+    FoldedParallelogram,
     /// The general star around a centre ([`star`]).
     Star,
     /// A room layout given back ([`FundamentalPolygon::from_layout`]), whose construction is
@@ -180,6 +183,7 @@ impl Construction {
             Construction::FoldedTriangle => "folded triangle",
             Construction::Lune => "lune",
             Construction::Parallelogram => "parallelogram",
+            Construction::FoldedParallelogram => "folded parallelogram",
             Construction::Star => "star",
             Construction::Given => "given polygon",
         }

@@ -350,6 +350,42 @@ fn the_torus_takes_every_lattice() {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// p2 takes every lattice: the translations a (pairing the left side with the right) and b
+    /// (the product of the two half-turns) are the lattice's, whatever its shape.
+    #[test]
+    fn p2_takes_every_lattice(ratio in 0.05f64..20.0, angle in 1.0f64..179.0) {
+        let p = FundamentalPolygon::new(
+            &"2222".parse().unwrap(),
+            &LayoutOptions {
+                shape: Shape::Parameters(vec![ratio, angle]),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        prop_assert_eq!(p.missing_parameters, 0);
+        prop_assert_eq!(p.construction, Construction::FoldedParallelogram);
+        check(&p);
+        // E²'s ambient coordinates of a model point z are (2z, 1) (stereographic scale), and the
+        // polygon was moved to its standard place: compare through the ambient images.
+        let space = p.space();
+        let at = |z: num_complex::Complex64| space.to_ambient(z);
+        let (o, a) = (p.vertices[0].position, p.vertices[2].position);
+        let b = num_complex::Complex64::from_polar(ratio, angle.to_radians()) * (a - o);
+        let is_translation = |m: DMat3, by: num_complex::Complex64| {
+            m.x_axis.abs_diff_eq(DVec3::X, 1e-12)
+                && m.y_axis.abs_diff_eq(DVec3::Y, 1e-12)
+                && (m * at(o)).abs_diff_eq(at(o + by), 1e-9)
+        };
+        prop_assert!(is_translation(p.edges[2].neighbour, a - o));
+        prop_assert!(is_translation(p.edges[3].neighbour * p.edges[0].neighbour, b));
+        let (ea, eb) = (at(a) - at(o), at(o + b) - at(o));
+        prop_assert!((p.area - ea.cross(eb).length() / 2.0).abs() < 1e-9 * (1.0 + p.area));
+    }
+}
+
 #[test]
 fn parameters_are_checked() {
     let s: OrbifoldSymbol = "2*22".parse().unwrap();

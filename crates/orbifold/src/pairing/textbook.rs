@@ -41,6 +41,16 @@ pub(crate) fn draft(
     if handles > 0 {
         return Ok(None);
     }
+    let two = Order::integer(2);
+    if geometry == Geometry::Euclidean
+        && crosscaps == 0
+        && boundaries.is_empty()
+        && cones.len() == 4
+        && cones.iter().all(|&k| k == two)
+    {
+        // `2222` (p2): half of the lattice's parallelogram, of any shape.
+        return folded_parallelogram(space, parameters).map(Some);
+    }
     let draft = match (cones, boundaries, crosscaps) {
         ([], [], 0) => {
             return Err(LayoutError::Unsupported(
@@ -180,6 +190,57 @@ fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, Layo
             "the angle between the two pairs of sides, in degrees; in (0, 180), default 90 (a rectangle)".into(),
         ],
         construction: Construction::Parallelogram,
+    })
+}
+
+/// `2222` (p2): the half 0, a, a + b/2, b/2 of the lattice's parallelogram spanned by a and b,
+/// with the fold points a/2 and (a + b)/2 as corners of angle π. The bottom side is folded about
+/// a/2 and the top side about (a + b)/2 by the half-turns there; the left side is paired with the
+/// right by the translation a. The corners 0 and a, and b/2 and a + b/2, form the other two cones
+/// of order 2 (angles θ + (π − θ) = π). Every lattice is reached, as for `o`.
+fn folded_parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
+    let values = take_parameters(
+        parameters,
+        &[1.0, 90.0],
+        &[(0.0, f64::INFINITY), (0.0, 180.0)],
+    )?;
+    let (ratio, theta) = (values[0], values[1].to_radians());
+    let a = num_complex::Complex64::new(1.0, 0.0);
+    let b = num_complex::Complex64::from_polar(ratio, theta);
+    let corners = [
+        num_complex::Complex64::new(0.0, 0.0),
+        a / 2.0,
+        a,
+        a + b / 2.0,
+        (a + b) / 2.0,
+        b / 2.0,
+    ];
+    let points: Vec<DVec3> = corners.iter().map(|&z| space.to_ambient(z)).collect();
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal: vec![false; 6],
+        orders: vec![Order::integer(2); 6],
+        walls: None,
+        neighbours: None,
+        glue: vec![
+            paired(1),
+            paired(0),
+            paired(5),
+            paired(4),
+            paired(3),
+            paired(2),
+        ],
+        parameters: values,
+        meanings: vec![
+            "the length of the lattice's second translation divided by the first's (|b|/|a|); \
+             in (0, ∞), default 1"
+                .into(),
+            "the angle between the lattice's two translations, in degrees; in (0, 180), default \
+             90 (a rectangular lattice)"
+                .into(),
+        ],
+        construction: Construction::FoldedParallelogram,
     })
 }
 
