@@ -25,6 +25,7 @@
 //! one of length d − 1, d or d + 1 (the generators are closed under inverses).
 
 use glam::{DMat3, DVec3};
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::{EdgeKind, FundamentalPolygon};
@@ -176,7 +177,7 @@ struct Node {
     shift: f64,
 }
 
-struct Search<'a> {
+struct Search {
     space: Space,
     generators: Vec<DMat3>,
     /// N·O for each generator N.
@@ -185,6 +186,11 @@ struct Search<'a> {
     /// faces the parent.
     generator_norms: Vec<f64>,
     facing: Vec<u32>,
+    /// For each edge, the other edge whose generator is the same group element: the partner
+    /// of an edge paired by a half-turn (N = N⁻¹, e.g. the two halves of a folded side), itself
+    /// otherwise. Only the lower of two such edges is expanded, and a child reached across one
+    /// faces its parent across both.
+    twin: Vec<u32>,
     centre: DVec3,
     /// ‖O‖₂.
     centre_length: f64,
@@ -199,11 +205,10 @@ struct Search<'a> {
     counts: Vec<u64>,
     kept: Vec<GroupTile>,
     farthest: f64,
-    polygon: &'a FundamentalPolygon,
 }
 
-impl<'a> Search<'a> {
-    fn new(polygon: &'a FundamentalPolygon, bound: Bound, keep: bool) -> Self {
+impl Search {
+    fn new(polygon: &FundamentalPolygon, bound: Bound, keep: bool) -> Self {
         let space = polygon.space();
         let generators: Vec<DMat3> = polygon.edges.iter().map(|e| e.neighbour).collect();
         let facing = polygon
@@ -215,6 +220,8 @@ impl<'a> Search<'a> {
                 EdgeKind::Paired { partner } => partner as u32,
             })
             .collect();
+        let defect = defect(polygon, &generators);
+        let twin = twins(polygon, &generators, defect);
         let centre = polygon.centre_ambient();
         let delta = polygon.clearance();
         let diameter = polygon
@@ -235,9 +242,10 @@ impl<'a> Search<'a> {
             space,
             generator_norms: generators.iter().map(|n| spectral(space, n)).collect(),
             images: generators.iter().map(|n| *n * centre).collect(),
-            defect: defect(polygon, &generators),
+            defect,
             generators,
             facing,
+            twin,
             centre,
             centre_length: centre.length(),
             separation: 2.0 * space.sin(delta),
@@ -247,7 +255,6 @@ impl<'a> Search<'a> {
             counts: Vec::new(),
             kept: Vec::new(),
             farthest: 0.0,
-            polygon,
         }
     }
 
@@ -302,7 +309,14 @@ impl<'a> Search<'a> {
             for p in older.drain(..) {
                 grid.remove(p);
             }
-            let next = self.expand(&layer, &mut grid, depth + 1)?;
+            // Under a tile bound, a layer that cannot fit whole is not finished.
+            let room = match self.bound {
+                Bound::Tiles(limit) => (limit as u128).saturating_sub(total),
+                _ => u128::MAX,
+            };
+            let Some(next) = self.expand(&layer, &mut grid, depth + 1, room)? else {
+                break;
+            };
             older = std::mem::take(&mut previous);
             previous = layer.iter().map(|(node, _)| node.point).collect();
             layer = next;
@@ -398,26 +412,79 @@ impl<'a> Search<'a> {
     }
 
     /// The next layer: every neighbour of the layer's tiles that is in none of the last two
-    /// layers (in `grid`) nor already in the new one, which it adds to `grid`.
+    /// layers (in `grid`) nor already in the new one, which it adds to `grid`; `None` as soon as
+    /// it would hold more than `room` tiles.
+    ///
+    /// In two passes over runs of the layer: the children's images, error bounds and matrices,
+    /// less those of the last two layers' tiles, on all cores (the grid is only read); then the
+    /// new layer's repeats dropped in order, so that the result does not depend on the threads.
     fn expand(
         &self,
         layer: &[(Node, u32)],
         grid: &mut Grid,
         depth: usize,
-    ) -> Result<Vec<(Node, u32)>, CoverError> {
-        let mut next: Vec<(Node, u32)> = Vec::with_capacity(layer.len() * 2);
+        room: u128,
+    ) -> Result<Option<Vec<(Node, u32)>>, CoverError> {
+        // Parents per task; about an eighth of the layer per batch between checks of `room`,
+        // so that a layer that does not fit is abandoned early.
+        const RUN: usize = 1024;
+        let batch = layer.len().div_ceil(8).next_multiple_of(RUN);
+        let mut next: Vec<(Node, u32)> = Vec::new();
+        for (b, parents) in layer.chunks(batch).enumerate() {
+            let offset = b * batch;
+            let runs: Vec<Vec<Child>> = parents
+                .par_chunks(RUN)
+                .enumerate()
+                .map(|(r, run)| self.children(run, offset + r * RUN, grid, depth))
+                .collect::<Result<_, _>>()?;
+            let found: usize = runs.iter().map(Vec::len).sum();
+            grid.reserve(found);
+            next.reserve(found);
+            for child in runs.iter().flatten() {
+                // Two images of one tile lie within the sum of their error bounds.
+                if !grid.insert_new(child.point, child.point_error, self.separation) {
+                    continue;
+                }
+                let (parent, i) = (&layer[child.parent as usize].0, child.generator as usize);
+                let node = Node {
+                    matrix: parent.matrix * self.generators[i],
+                    point: child.point,
+                    error: child.error,
+                    shift: child.shift,
+                };
+                next.push((node, self.facing[i]));
+            }
+            if next.len() as u128 > room {
+                return Ok(None);
+            }
+        }
+        Ok(Some(next))
+    }
+
+    /// The children of a run of parents (the first at index `first` of the layer) that are not
+    /// among the tiles in `grid` (the last two layers).
+    fn children(
+        &self,
+        run: &[(Node, u32)],
+        first: usize,
+        grid: &Grid,
+        depth: usize,
+    ) -> Result<Vec<Child>, CoverError> {
+        let mut children = Vec::with_capacity(run.len() * 2);
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
         let bounded = self.reach.is_finite();
-        for (parent, facing) in layer {
+        for (k, (parent, facing)) in run.iter().enumerate() {
             if bounded && self.distance(parent.point) > self.reach {
                 continue;
             }
             let p_norm = spectral(self.space, &parent.matrix);
-            for (i, n) in self.generators.iter().enumerate() {
-                // Across the edge it faces its parent by lies the parent.
-                if i as u32 == *facing {
+            for i in 0..self.generators.len() {
+                // Across the edge it faces its parent by lies the parent; a half-turn's second
+                // edge gives the first one's children again.
+                let twin = self.twin[i];
+                if i as u32 == *facing || twin == *facing || twin < i as u32 {
                     continue;
                 }
                 // The image of O first (N·O is precomputed); the matrix only for a new tile.
@@ -426,25 +493,59 @@ impl<'a> Search<'a> {
                 if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
-                // Two images of one tile lie within the sum of their error bounds.
                 if grid.contains(point, point_error, self.separation) {
                     continue;
                 }
-                grid.insert(point, point_error);
-                next.push((
-                    Node {
-                        matrix: parent.matrix * *n,
-                        point,
-                        error,
-                        shift,
-                    },
-                    self.facing[i],
-                ));
+                children.push(Child {
+                    parent: (first + k) as u32,
+                    generator: i as u32,
+                    point,
+                    point_error,
+                    error,
+                    shift,
+                });
             }
         }
-        let _ = self.polygon;
-        Ok(next)
+        Ok(children)
     }
+}
+
+/// A child found in the first pass of [`Search::expand`]: the parent's index in its layer, the
+/// generator, the image of the centre and the error bounds.
+struct Child {
+    parent: u32,
+    generator: u32,
+    point: DVec3,
+    point_error: f64,
+    error: f64,
+    shift: f64,
+}
+
+/// For each edge, the edge whose generator is the same group element ([`Search::twin`]).
+///
+/// A pairing N with N = N⁻¹ is an involution: its partner's generator N⁻¹ is N itself. The test
+/// ‖N·N − I‖ within the generators' measured defect cannot mistake another pairing for one: an
+/// orientation-preserving isometry other than a half-turn or the identity moves the polygon's
+/// centre, or turns about it, by a fixed amount far above that bound.
+fn twins(polygon: &FundamentalPolygon, generators: &[DMat3], defect: f64) -> Vec<u32> {
+    polygon
+        .edges
+        .iter()
+        .enumerate()
+        .map(|(i, e)| match e.kind {
+            EdgeKind::Paired { partner } if partner != i => {
+                let n = generators[i];
+                let square = n * n;
+                let tolerance = defect * norm(&n) * norm(&n);
+                if norm(&(square - DMat3::IDENTITY)) <= tolerance {
+                    partner as u32
+                } else {
+                    i as u32
+                }
+            }
+            _ => i as u32,
+        })
+        .collect()
 }
 
 /// The generators' measured defect: pairings against their partners' inverses, mirrors against
@@ -470,11 +571,19 @@ fn defect(polygon: &FundamentalPolygon, generators: &[DMat3]) -> f64 {
     16.0 * worst.max(64.0 * U)
 }
 
+/// ⌊v⌋ as an integer, without a call to the C library's `floor` (which the baseline x86-64
+/// target makes of `f64::floor`). Values beyond the range of i64 saturate, as `as` does.
+fn floor(v: f64) -> i64 {
+    let t = v as i64;
+    if (t as f64) > v { t - 1 } else { t }
+}
+
 /// Images of the centre in cells of a grid in ambient ℝ³. Cells are σ/2 wide, so their
 /// diagonal (√3·σ/2) is shorter than the separation σ of distinct images: a cell holds at most
 /// one image.
 struct Grid {
-    cell: f64,
+    /// 1 / cell: the cells are found by multiplying, not dividing.
+    inverse: f64,
     cells: FxHashMap<(i64, i64, i64), DVec3>,
     /// The largest error bound of a stored image.
     error: f64,
@@ -483,44 +592,76 @@ struct Grid {
 impl Grid {
     fn new(cell: f64) -> Self {
         Grid {
-            cell,
+            inverse: 1.0 / cell,
             cells: FxHashMap::default(),
             error: 0.0,
         }
     }
 
-    fn key(&self, p: DVec3) -> (i64, i64, i64) {
-        let q = (p / self.cell).floor();
-        (q.x as i64, q.y as i64, q.z as i64)
+    /// The cell of `p` and `p`'s position in it, each coordinate in [0, 1) up to rounding.
+    fn locate(&self, p: DVec3) -> ((i64, i64, i64), DVec3) {
+        let q = p * self.inverse;
+        let key = (floor(q.x), floor(q.y), floor(q.z));
+        let corner = DVec3::new(key.0 as f64, key.1 as f64, key.2 as f64);
+        (key, q - corner)
+    }
+
+    fn reserve(&mut self, additional: usize) {
+        self.cells.reserve(additional);
     }
 
     fn insert(&mut self, p: DVec3, error: f64) {
         self.error = self.error.max(error);
-        self.cells.insert(self.key(p), p);
+        self.cells.insert(self.locate(p).0, p);
     }
 
     fn remove(&mut self, p: DVec3) {
-        let key = self.key(p);
+        let key = self.locate(p).0;
         if self.cells.get(&key) == Some(&p) {
             self.cells.remove(&key);
         }
     }
 
-    /// Whether an image within half the separation of `p` (whose error is at most `error`) is
-    /// stored; the neighbouring cells are searched only when `p` lies within the two error
-    /// bounds of its own cell's faces.
+    /// Whether an image of the same tile as `p` (whose error is at most `error`) is stored.
+    ///
+    /// Two computed images in one cell are less than a cell's diagonal, √3·σ/2 < 7σ/8, apart:
+    /// they are the same tile's. The neighbouring cells are searched only when `p` lies within
+    /// the two error bounds of its own cell's faces, and there an image must be within σ/2.
     fn contains(&self, p: DVec3, error: f64, separation: f64) -> bool {
-        let (x, y, z) = self.key(p);
-        let half = separation / 2.0;
-        let near = |q: Option<&DVec3>| q.is_some_and(|q| (*q - p).length() < half);
-        if near(self.cells.get(&(x, y, z))) {
-            return true;
+        let (key, local) = self.locate(p);
+        self.cells.contains_key(&key) || self.in_neighbour(p, key, local, error, separation)
+    }
+
+    /// Stores `p` unless an image of the same tile is stored (as [`Grid::contains`]); whether it
+    /// was new.
+    fn insert_new(&mut self, p: DVec3, error: f64, separation: f64) -> bool {
+        let (key, local) = self.locate(p);
+        if self.cells.contains_key(&key) || self.in_neighbour(p, key, local, error, separation) {
+            return false;
         }
-        let local = p / self.cell - DVec3::new(x as f64, y as f64, z as f64);
-        let s = 2.0 * (error + self.error) / self.cell;
+        self.error = self.error.max(error);
+        self.cells.insert(key, p);
+        true
+    }
+
+    /// Whether a neighbouring cell of `key` that `p` may belong to, given the error bounds, holds
+    /// an image within σ/2 of `p`.
+    fn in_neighbour(
+        &self,
+        p: DVec3,
+        (x, y, z): (i64, i64, i64),
+        local: DVec3,
+        error: f64,
+        separation: f64,
+    ) -> bool {
+        // Each coordinate's cell is certain when it lies farther than the two images' error
+        // bounds (in cells) from the cell's faces: the stored image of the same tile is then in
+        // this very cell.
+        let s = 2.0 * (error + self.error) * self.inverse;
         if local.min_element() >= s && local.max_element() <= 1.0 - s {
             return false;
         }
+        let half_squared = separation * separation / 4.0;
         let range = |f: f64| {
             let lo = if f < s { -1 } else { 0 };
             let hi = if f > 1.0 - s { 1 } else { 0 };
@@ -529,7 +670,11 @@ impl Grid {
         for dx in range(local.x) {
             for dy in range(local.y) {
                 for dz in range(local.z) {
-                    if (dx, dy, dz) != (0, 0, 0) && near(self.cells.get(&(x + dx, y + dy, z + dz)))
+                    if (dx, dy, dz) != (0, 0, 0)
+                        && self
+                            .cells
+                            .get(&(x + dx, y + dy, z + dz))
+                            .is_some_and(|q| q.distance_squared(p) < half_squared)
                     {
                         return true;
                     }
@@ -552,6 +697,31 @@ mod tests {
     fn geometric(s: &str, bound: Bound) -> GroupCover {
         GroupCover::enumerate_polygon(polygon(s), bound, true)
             .unwrap_or_else(|e| panic!("{s}: {e}"))
+    }
+
+    /// The edges paired by involutions (here half-turns), and only those, share their
+    /// generator: the folds of
+    /// `2223`'s three cones of order 2 and of p2's two folded sides; not `632`'s rotations nor
+    /// p2's translation nor `22×`'s glide.
+    #[test]
+    fn half_turns_are_their_own_partners_generators() {
+        for (s, pairs) in [("2223", 3), ("2222", 2), ("632", 0), ("22×", 2), ("oo", 0)] {
+            let p = polygon(s);
+            let generators: Vec<DMat3> = p.edges.iter().map(|e| e.neighbour).collect();
+            let twin = twins(&p, &generators, defect(&p, &generators));
+            let shared = (0..twin.len()).filter(|&i| twin[i] as usize > i).count();
+            assert_eq!(shared, pairs, "{s}: {twin:?}");
+            for (i, &t) in twin.iter().enumerate() {
+                assert_eq!(twin[t as usize] as usize, i, "{s}: twins pair up");
+                let square = generators[i] * generators[i];
+                assert_eq!(
+                    t as usize != i,
+                    matches!(p.edges[i].kind, EdgeKind::Paired { partner } if partner != i)
+                        && square.abs_diff_eq(DMat3::IDENTITY, 1e-9),
+                    "{s}: edge {i}"
+                );
+            }
+        }
     }
 
     #[test]
