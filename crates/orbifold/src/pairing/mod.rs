@@ -29,6 +29,7 @@
 
 pub mod cover;
 pub(crate) mod cycles;
+pub(crate) mod deform;
 pub(crate) mod geometry;
 pub mod star;
 pub(crate) mod textbook;
@@ -232,6 +233,7 @@ pub struct FundamentalPolygon {
 }
 
 /// A polygon before it is measured: points, walls and how the edges are glued.
+#[derive(Clone)]
 pub(crate) struct Draft {
     /// Ambient points (null directions for ideal ones), counter-clockwise.
     pub(crate) points: Vec<DVec3>,
@@ -329,8 +331,14 @@ impl FundamentalPolygon {
                 )));
             }
         };
-        let draft = textbook::draft(symbol, space, parameters)?
-            .map_or_else(|| star::draft(symbol, space, parameters), Ok)?;
+        let draft = match textbook::draft(symbol, space, parameters)? {
+            Some(draft) => draft,
+            // In H² every free parameter: the star deformed (deform.rs), the star the default.
+            None if space.kappa() < 0.0 => {
+                deform::deformed(symbol, space, star::draft(symbol, space, None)?, parameters)?
+            }
+            None => star::draft(symbol, space, parameters)?,
+        };
         let motion =
             Isometry::translation(space, at).compose(&Isometry::rotation(space, options.angle));
         finish(symbol, space, draft, motion.matrix())
