@@ -451,8 +451,8 @@ proptest! {
             .iter()
             .zip(&seeds)
             .map(|(m, &u)| {
-                if m.contains("(0.95, 1.05)") {
-                    0.9501 + 0.0998 * u
+                if m.contains("(0.97, 1.03)") {
+                    0.9701 + 0.0598 * u
                 } else if m.contains("(0, 180)") {
                     1.0 + 178.0 * u
                 } else if m.contains("(0, 1)") {
