@@ -292,7 +292,7 @@ impl Problem {
         let generators = self.generators(points);
         words
             .iter()
-            .map(|w| translation_length(word_matrix(&generators, w)))
+            .map(|w| translation_length(word_matrix(&generators, w), reverses(&self.glue, w)))
             .collect()
     }
 
@@ -314,10 +314,27 @@ fn word_matrix(generators: &[DMat3], word: &[Letter]) -> DMat3 {
 }
 
 /// acosh((tr W − det W)/2): the translation length of a hyperbolic element or a glide (0 for
-/// elliptic and parabolic elements and reflections).
-fn translation_length(w: DMat3) -> f64 {
-    let c = 0.5 * (w.x_axis.x + w.y_axis.y + w.z_axis.z - w.determinant());
+/// elliptic and parabolic elements and reflections). det W = ±1 is given (`reverses`: −1), not
+/// computed: for a long word the determinant of the product comes out of cancellations between
+/// entries of size e^ℓ and is not even close to ±1.
+fn translation_length(w: DMat3, reverses: bool) -> f64 {
+    let det = if reverses { -1.0 } else { 1.0 };
+    let c = 0.5 * (w.x_axis.x + w.y_axis.y + w.z_axis.z - det);
     c.max(1.0).acosh()
+}
+
+/// Whether a word reverses orientation: an odd number of mirrors and glides.
+fn reverses(glue: &[Glue], word: &[Letter]) -> bool {
+    word.iter()
+        .filter(|l| {
+            matches!(
+                glue[l.edge],
+                Glue::Mirror | Glue::Paired { reverses: true, .. }
+            )
+        })
+        .count()
+        % 2
+        == 1
 }
 
 /// Central differences of `f` at `x`: row r of the result is ∂f_r/∂x.
@@ -445,6 +462,10 @@ fn candidate_words(problem: &Problem, letters: usize) -> Vec<Vec<Letter>> {
     words
 }
 
+/// The longest closed geodesic chosen: longer words are products of matrices with entries of
+/// size e^ℓ whose trace comes out of cancellations, and their lengths lose digits.
+const MAX_LENGTH: f64 = 30.0;
+
 /// A word's weight in the choice: shorter words are preferred when they do nearly as well.
 fn preference(word: &[Letter]) -> f64 {
     [1.0, 0.8, 0.6][word.len().min(3) - 1]
@@ -477,7 +498,7 @@ fn choose_words(problem: &Problem, x0: &[f64], count: usize) -> Vec<Vec<Letter>>
             .flat_map(|letters| candidate_words(problem, letters))
             .filter(|w| {
                 let l = problem.lengths_of(&problem.unpack(x0), std::slice::from_ref(w))[0];
-                l > 0.05 && l < 30.0
+                l > 0.05 && l < MAX_LENGTH
             })
             .collect();
         if candidates.is_empty() {
@@ -698,7 +719,13 @@ pub(crate) fn lengths_in(polygon: &super::FundamentalPolygon, words: &[Vec<(usiz
                 .iter()
                 .map(|&(edge, inverse)| Letter { edge, inverse })
                 .collect();
-            translation_length(word_matrix(&generators, &letters))
+            let odd = letters
+                .iter()
+                .filter(|l| polygon.edges[l.edge].reverses_orientation())
+                .count()
+                % 2
+                == 1;
+            translation_length(word_matrix(&generators, &letters), odd)
         })
         .collect()
 }
@@ -725,7 +752,7 @@ mod tests {
         let only = std::env::var("ONLY").ok();
         for name in [
             "oo", "2223", "22222", "o2", "o*", "**", "***", "×××", "o×", "**2", "2**", "∞∞2",
-            "∞∞∞", "2∞*", "*2×", "o*2", "*2*3", "3*33", "2*2222", "23*2", "∞*∞", "2*2×", "*23*", "ooo", "o∞42**22", "247*264*3××", "o753*365*364",
+            "∞∞∞", "2∞*", "*2×", "o*2", "*2*3", "3*33", "2*2222", "23*2", "∞*∞", "2*2×", "*23*", "ooo", "o∞42**22", "247*264*3××", "o753*365*364", "∞64*56*∞××",
         ] {
             if only.as_deref().is_some_and(|o| o != name) {
                 continue;
