@@ -574,7 +574,18 @@ fn each_parameter_moves_its_own_length() {
 
 #[test]
 fn default_factors_give_todays_star() {
-    for name in ["oo", "2223", "o*2", "*2*3", "3*33", "2*2222", "∞∞2∞", "2∞*", "**2", "ooo"] {
+    for name in [
+        "oo",
+        "2223",
+        "o*2",
+        "*2*3",
+        "3*33",
+        "2*2222",
+        "∞∞2∞",
+        "2∞*",
+        "**2",
+        "ooo",
+    ] {
         let s: OrbifoldSymbol = name.parse().unwrap();
         let default = build(name);
         let ones = with_factors(&s, vec![1.0; default.parameters.len()]).unwrap();
