@@ -17,7 +17,7 @@
 //! | `2*mn`, `2*m`, `2*` | the triangle π/m, β, γ (β + γ = π/n) of mirrors, its third side folded by a half-turn |
 //! | `NN`, `N×`, `×` | a lune, its sides paired by a rotation (NN) or a rotatory reflection (N×) |
 //! | `o` | a parallelogram, opposite sides paired by the lattice's translations |
-//! | everything else | the *star* ([`star`]): sectors around a centre, one per feature |
+//! | everything else | the *star* ([`star`]): sectors around a centre, one per feature; in H² deformed to every free parameter ([`deform`]) |
 //!
 //! ```
 //! use orbifold::pairing::{CycleKind, FundamentalPolygon};
@@ -29,7 +29,7 @@
 
 pub mod cover;
 pub(crate) mod cycles;
-pub(crate) mod deform;
+pub mod deform;
 pub(crate) mod geometry;
 pub mod star;
 pub(crate) mod textbook;
