@@ -61,10 +61,12 @@ use crate::layout::LayoutError;
 use crate::space::Space;
 
 /// The documented range of every length factor (exclusive). Lengths of crossing geodesics are
-/// not independent far from the star, so the box is small: every corner of it was valid for 4000
-/// random symbols of up to 18 parameters (the ignored test `deform::tests::sweep`; at (0.95, 1.05) 9 of 2000
-/// failed), and the property test `deformed_stars_meet_poincare` samples it.
-pub const FACTOR_RANGE: (f64, f64) = (0.97, 1.03);
+/// not independent far from the star, so the box is small: a random corner of it was valid for
+/// each of 6000 random symbols of up to 18 parameters (the ignored test `deform::tests::sweep`;
+/// at (0.97, 1.03) 1 of 4000 failed, at (0.95, 1.05) 9 of 2000), and the property test
+/// `deformed_stars_meet_poincare` samples it. Not proved: a box of lengths is not a product in
+/// Teichmüller space.
+pub const FACTOR_RANGE: (f64, f64) = (0.98, 1.02);
 
 /// Equations and lengths to this accuracy, times the corners' reach (below), or the polygon is
 /// refused.
@@ -775,7 +777,7 @@ mod tests {
                 if r() < 0.12 {
                     Order::Infinite
                 } else {
-                    Order::integer(2 + (r() * 6.0) as u64)
+                    Order::integer(2 + (r() * 7.0) as u64)
                 }
             };
             let h = (random() * 3.0) as u32;
@@ -823,5 +825,40 @@ mod tests {
             worst = worst.max(t.elapsed());
         }
         eprintln!("tried {tried} failed {failed} short {short} worst {worst:?}");
+    }
+
+    /// One symbol (`SYMBOL`) at `COUNT` random corners of the box, with the failures' reasons.
+    #[test]
+    #[ignore]
+    fn corners_of_one() {
+        let s: OrbifoldSymbol = std::env::var("SYMBOL").unwrap().parse().unwrap();
+        let count: usize = std::env::var("COUNT").map_or(50, |c| c.parse().unwrap());
+        let p = FundamentalPolygon::new(&s, &Default::default()).unwrap();
+        let mut seed = 5u64;
+        let mut failed = 0;
+        if let Ok(values) = std::env::var("VALUES") {
+            let v: Vec<f64> = values.split(',').map(|x| x.parse().unwrap()).collect();
+            eprintln!("{:?}", with(&s, v).map(|_| ()));
+        }
+        for _ in 0..count {
+            let v: Vec<f64> = (0..p.parameters.len())
+                .map(|_| {
+                    seed = seed
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    let (lo, hi) = FACTOR_RANGE;
+                    if seed >> 63 == 0 {
+                        lo + 1e-6
+                    } else {
+                        hi - 1e-6
+                    }
+                })
+                .collect();
+            if let Err(e) = with(&s, v) {
+                failed += 1;
+                eprintln!("{e}");
+            }
+        }
+        eprintln!("{s}: T={} failed {failed} of {count}", p.parameters.len());
     }
 }
