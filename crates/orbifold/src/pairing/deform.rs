@@ -668,10 +668,20 @@ fn meanings(problem: &Problem, words: &[Vec<Letter>], lengths0: &[f64]) -> Vec<S
         .zip(lengths0)
         .map(|(w, l)| {
             let name = word_name(w, &letters);
+            // Name the mirrors a word goes through: their edges carry no letter in the drawing.
+            let mirrors: Vec<String> = w
+                .iter()
+                .filter(|l| letters[l.edge].is_none())
+                .map(|l| format!("r{0} the reflection in mirror edge {0}", l.edge))
+                .collect();
+            let legend = if mirrors.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", mirrors.join(", "))
+            };
             format!(
-                "the length of the closed geodesic of the word {name} (pairings lettered as drawn; \
-                 rN the reflection in mirror edge N), as a factor of its default {l:.6}; \
-                 in ({}, {}), default 1",
+                "the length of the closed geodesic of the word {name} (pairings lettered as \
+                 drawn{legend}), as a factor of its default {l:.6}; in ({}, {}), default 1",
                 FACTOR_RANGE.0, FACTOR_RANGE.1
             )
         })
