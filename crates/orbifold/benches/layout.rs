@@ -42,7 +42,7 @@ fn deformed_stars(c: &mut Criterion) {
             b.iter(|| FundamentalPolygon::new(black_box(&symbol), &LayoutOptions::default()))
         });
         let factors = (0..star.parameters.len())
-            .map(|k| if k % 2 == 0 { 0.971 } else { 1.029 })
+            .map(|k| if k % 2 == 0 { 0.981 } else { 1.019 })
             .collect();
         let options = LayoutOptions {
             shape: Shape::Parameters(factors),
