@@ -80,7 +80,14 @@ fn determinant(m: &[V3; 3]) -> f64 {
 
 /// Poincaré's conditions from the JSON alone.
 fn check_layout(symbol: &str) -> Value {
-    let v = json(&["layout", symbol, "--json"]);
+    check_layout_with(symbol, &[])
+}
+
+/// Poincaré's conditions from the JSON alone, with more arguments (`--params`).
+fn check_layout_with(symbol: &str, more: &[&str]) -> Value {
+    let mut args = vec!["layout", symbol, "--json"];
+    args.extend(more);
+    let v = json(&args);
     let k = kappa(v["geometry"].as_str().unwrap());
     let vertices = v["vertices"].as_array().unwrap();
     let points: Vec<V3> = vertices.iter().map(|x| ambient(x, k)).collect();
@@ -313,4 +320,32 @@ fn bad_and_unbuilt_symbols_get_clear_errors() {
         .assert()
         .failure()
         .stderr(predicate::str::contains("frieze"));
+}
+
+/// The hyperbolic star offers every free parameter that `info` counts, and a deformed polygon
+/// still meets Poincaré's conditions when rebuilt from the JSON.
+#[test]
+fn hyperbolic_stars_offer_every_parameter() {
+    for (s, params) in [
+        ("oo", "0.981,1.019,1.01,0.99,1.0,1.015"),
+        ("o*2", "1.01,0.99,1.019,0.985"),
+        ("2223", "1.015,0.985"),
+        ("*2×", "1.019"),
+    ] {
+        let v = check_layout(s);
+        let count = params.split(',').count();
+        assert_eq!(
+            v["parameter_meanings"].as_array().unwrap().len(),
+            count,
+            "{s}"
+        );
+        assert_eq!(v["missing_parameters"], 0, "{s}");
+        let shaped = check_layout_with(s, &["--params", params]);
+        assert_eq!(shaped["missing_parameters"], 0, "{s}");
+        assert_ne!(shaped["vertices"], v["vertices"], "{s}");
+    }
+    orbifold()
+        .args(["layout", "oo", "--params", "1.1,1,1,1,1,1"])
+        .assert()
+        .failure();
 }

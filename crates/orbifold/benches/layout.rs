@@ -5,7 +5,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use orbifold::layout::{Layout, LayoutOptions, Shape};
-use orbifold::{Order, Signature};
+use orbifold::pairing::FundamentalPolygon;
+use orbifold::{OrbifoldSymbol, Order, Signature};
 
 fn layouts(c: &mut Criterion) {
     let hundred = Signature::new((0..100).map(|i| Order::integer(2 + i % 7))).unwrap();
@@ -31,5 +32,27 @@ fn layouts(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, layouts);
+/// The hyperbolic star: its default (which chooses the words) and deformed to every parameter
+/// (docs/orbifolds.md, "Shape parameters of the star").
+fn deformed_stars(c: &mut Criterion) {
+    for name in ["oo", "o*2", "2223"] {
+        let symbol: OrbifoldSymbol = name.parse().unwrap();
+        let star = FundamentalPolygon::new(&symbol, &LayoutOptions::default()).unwrap();
+        c.bench_function(&format!("polygon {name} default"), |b| {
+            b.iter(|| FundamentalPolygon::new(black_box(&symbol), &LayoutOptions::default()))
+        });
+        let factors = (0..star.parameters.len())
+            .map(|k| if k % 2 == 0 { 0.981 } else { 1.019 })
+            .collect();
+        let options = LayoutOptions {
+            shape: Shape::Parameters(factors),
+            ..LayoutOptions::default()
+        };
+        c.bench_function(&format!("polygon {name} deformed"), |b| {
+            b.iter(|| FundamentalPolygon::new(black_box(&symbol), &options).unwrap())
+        });
+    }
+}
+
+criterion_group!(benches, layouts, deformed_stars);
 criterion_main!(benches);

@@ -18,7 +18,7 @@
 //! | `NN`, `N×`, `×` | a lune, its sides paired by a rotation (NN) or a rotatory reflection (N×) |
 //! | `o` | a parallelogram, opposite sides paired by the lattice's translations |
 //! | `2222` | half a lattice parallelogram, two sides folded by half-turns, two paired by a translation |
-//! | everything else | the *star* ([`star`]): sectors around a centre, one per feature |
+//! | everything else | the *star* ([`star`]): sectors around a centre, one per feature; in H² deformed to every free parameter ([`deform`]) |
 //!
 //! ```
 //! use orbifold::pairing::{CycleKind, FundamentalPolygon};
@@ -30,6 +30,7 @@
 
 pub mod cover;
 pub(crate) mod cycles;
+pub mod deform;
 pub(crate) mod geometry;
 pub mod star;
 pub(crate) mod textbook;
@@ -236,6 +237,7 @@ pub struct FundamentalPolygon {
 }
 
 /// A polygon before it is measured: points, walls and how the edges are glued.
+#[derive(Clone)]
 pub(crate) struct Draft {
     /// Ambient points (null directions for ideal ones), counter-clockwise.
     pub(crate) points: Vec<DVec3>,
@@ -333,8 +335,14 @@ impl FundamentalPolygon {
                 )));
             }
         };
-        let draft = textbook::draft(symbol, space, parameters)?
-            .map_or_else(|| star::draft(symbol, space, parameters), Ok)?;
+        let draft = match textbook::draft(symbol, space, parameters)? {
+            Some(draft) => draft,
+            // In H² every free parameter: the star deformed (deform.rs), the star the default.
+            None if space.kappa() < 0.0 => {
+                deform::deformed(symbol, space, star::draft(symbol, space, None)?, parameters)?
+            }
+            None => star::draft(symbol, space, parameters)?,
+        };
         let motion =
             Isometry::translation(space, at).compose(&Isometry::rotation(space, options.angle));
         finish(symbol, space, draft, motion.matrix())

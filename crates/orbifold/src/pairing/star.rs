@@ -29,6 +29,9 @@
 //! has its partner's length; the polygon is the one of `--shape incircle` (layout/incircle.rs).
 //! It is rigid but exists for every good hyperbolic symbol; the circle of radius R with both
 //! ends of a cut at right angles does not (docs/orbifolds.md).
+//!
+//! In H² both are the default of [`super::deform`], which offers every free parameter (lengths
+//! of closed geodesics) by deforming them; the cut and width parameters here are E²'s.
 
 use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, PI, SQRT_2, TAU};
 

@@ -476,7 +476,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     #[test]
-    fn random_hyperbolic_symbols_meet_poincare(s in symbol(), seeds in proptest::collection::vec(0.0f64..1.0, 12)) {
+    fn random_hyperbolic_symbols_meet_poincare(s in symbol(), seeds in proptest::collection::vec(0.0f64..1.0, 24)) {
         let default = FundamentalPolygon::new(&s, &LayoutOptions::default());
         prop_assert!(default.is_ok(), "{s}: {:?}", default.err());
         let p = default.unwrap();
@@ -487,7 +487,9 @@ proptest! {
             .iter()
             .zip(&seeds)
             .map(|(m, &u)| {
-                if m.contains("(0, 180)") {
+                if m.contains("(0.98, 1.02)") {
+                    0.9801 + 0.0398 * u
+                } else if m.contains("(0, 180)") {
                     1.0 + 178.0 * u
                 } else if m.contains("(0, 1)") {
                     0.02 + 0.96 * u
@@ -507,4 +509,139 @@ proptest! {
         prop_assert!(shaped.is_ok(), "{s} {values:?}: {:?}", shaped.err());
         check(&shaped.unwrap());
     }
+}
+
+/// The family whose balanced star is degenerate and kept rigid (docs/orbifolds.md): a cone of
+/// order 2 and one mirror boundary with corners, nothing else (the textbook takes `2*mn`).
+fn rigid_balanced_star(s: &OrbifoldSymbol) -> bool {
+    s.handles() == 0
+        && s.crosscaps() == 0
+        && s.cones() == [Order::integer(2)]
+        && s.boundaries().len() == 1
+        && !s.boundaries()[0].is_empty()
+}
+
+fn with_factors(s: &OrbifoldSymbol, factors: Vec<f64>) -> Result<FundamentalPolygon, LayoutError> {
+    FundamentalPolygon::new(
+        s,
+        &LayoutOptions {
+            shape: Shape::Parameters(factors),
+            ..Default::default()
+        },
+    )
+}
+
+/// Reads the parameters back from the pairings alone and compares them with the factors asked
+/// for.
+fn check_lengths(s: &OrbifoldSymbol, p: &FundamentalPolygon, factors: &[f64]) {
+    let (words, defaults) = deform::words_for(s);
+    let lengths = deform::lengths_in(p, &words);
+    assert_eq!(lengths.len(), factors.len(), "{s}");
+    for (k, ((l, l0), f)) in lengths.iter().zip(&defaults).zip(factors).enumerate() {
+        assert!(
+            (l / l0 - f).abs() < 1e-8,
+            "{s}: parameter {k} asked {f}, the pairings give {}",
+            l / l0
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Every hyperbolic star offers all of Thurston's parameters (but the one rigid family), and
+    /// every value in the documented range gives a polygon that meets Poincaré's conditions with
+    /// the closed geodesics' lengths asked for.
+    #[test]
+    fn deformed_stars_meet_poincare(
+        s in symbol(),
+        seeds in proptest::collection::vec(0.0f64..1.0, 24),
+        extreme in proptest::bool::ANY,
+    ) {
+        let p = FundamentalPolygon::new(&s, &LayoutOptions::default()).unwrap();
+        prop_assume!(p.construction == Construction::Star);
+        prop_assert_eq!(p.parameters.len() + p.missing_parameters, s.free_parameters());
+        if !rigid_balanced_star(&s) {
+            prop_assert_eq!(p.missing_parameters, 0, "{}", s);
+        }
+        let (lo, hi) = deform::FACTOR_RANGE;
+        // Half of the cases at the range's corners, where the lengths are furthest apart.
+        let factors: Vec<f64> = seeds
+            .iter()
+            .take(p.parameters.len())
+            .map(|&u| {
+                let u = if extreme { if u < 0.5 { 1e-6 } else { 1.0 - 1e-6 } } else { 0.001 + 0.998 * u };
+                lo + (hi - lo) * u
+            })
+            .collect();
+        let shaped = with_factors(&s, factors.clone());
+        prop_assert!(shaped.is_ok(), "{} {:?}: {:?}", s, factors, shaped.err());
+        let shaped = shaped.unwrap();
+        check(&shaped);
+        check_lengths(&s, &shaped, &factors);
+        prop_assert_eq!(shaped.parameters, factors);
+    }
+}
+
+#[test]
+fn each_parameter_moves_its_own_length() {
+    for name in ["oo", "2223", "o*2", "*2*3", "2∞*", "o×", "23*2", "×××"] {
+        let s: OrbifoldSymbol = name.parse().unwrap();
+        let default = build(name);
+        let t = default.parameters.len();
+        assert_eq!(t, s.free_parameters(), "{name}");
+        for k in 0..t {
+            let mut factors = vec![1.0; t];
+            factors[k] = 1.015;
+            let p = with_factors(&s, factors.clone()).unwrap();
+            check(&p);
+            // Only length k moves: the Jacobian of the lengths has rank T, and the group is not
+            // conjugate to the star's (a conjugacy invariant differs).
+            check_lengths(&s, &p, &factors);
+            let moved = p
+                .vertices
+                .iter()
+                .zip(&default.vertices)
+                .any(|(a, b)| (a.position - b.position).norm() > 1e-4);
+            assert!(moved, "{name}: parameter {k} did not move the polygon");
+        }
+    }
+}
+
+#[test]
+fn default_factors_give_todays_star() {
+    for name in [
+        "oo",
+        "2223",
+        "o*2",
+        "*2*3",
+        "3*33",
+        "2*2222",
+        "∞∞2∞",
+        "2∞*",
+        "**2",
+        "ooo",
+    ] {
+        let s: OrbifoldSymbol = name.parse().unwrap();
+        let default = build(name);
+        let ones = with_factors(&s, vec![1.0; default.parameters.len()]).unwrap();
+        assert_eq!(default, ones, "{name}");
+        // Today's construction, finished without the deformation.
+        let space = Space::new(s.geometry());
+        let star = star::draft(&s, space, None).unwrap();
+        let today = finish(&s, space, star, DMat3::IDENTITY).unwrap();
+        assert_eq!(default.vertices, today.vertices, "{name}");
+        assert_eq!(default.edges, today.edges, "{name}");
+    }
+}
+
+#[test]
+fn parameters_out_of_range_are_refused() {
+    let s: OrbifoldSymbol = "oo".parse().unwrap();
+    let mut factors = vec![1.0; 6];
+    factors[2] = 1.2;
+    assert!(matches!(
+        with_factors(&s, factors),
+        Err(LayoutError::ParameterOutOfRange { index: 2, .. })
+    ));
 }
