@@ -15,7 +15,7 @@
 //! ‖P‖·‖Ñ − N‖ + 3γ₃‖P‖‖N‖ (the last term the rounding of the product: Higham, *Accuracy and
 //! Stability of Numerical Algorithms*, §3.5), and an image of O is off by at most that times ‖O‖
 //! plus its own rounding; in E² the translation column is followed apart from the linear part
-//! ([`Search::propagate`]). ‖Ñ − N‖ ≤ e_gen·‖N‖ with e_gen the generators' measured defect: how
+//! (`Search::propagate`). ‖Ñ − N‖ ≤ e_gen·‖N‖ with e_gen the generators' measured defect: how
 //! far each pairing and its partner's are from inverse, and how far the vertex cycles' angle
 //! sums are from Poincaré's values (which is how far the group's relations are from holding),
 //! times 16. The bound is therefore certified relative to that measured defect of the polygon,
