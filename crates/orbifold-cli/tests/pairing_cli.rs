@@ -340,6 +340,17 @@ fn hyperbolic_stars_offer_every_parameter() {
             "{s}"
         );
         assert_eq!(v["missing_parameters"], 0, "{s}");
+        // Each given value lies inside its stated range.
+        let ranges = v["parameter_ranges"].as_array().unwrap();
+        assert_eq!(ranges.len(), count, "{s}");
+        for (range, value) in ranges.iter().zip(params.split(',')) {
+            let value: f64 = value.parse().unwrap();
+            let (low, high) = (range[0].as_f64().unwrap(), range[1].as_f64());
+            assert!(
+                low < value && high.is_none_or(|h| value < h),
+                "{s}: {value} in {range}"
+            );
+        }
         let shaped = check_layout_with(s, &["--params", params]);
         assert_eq!(shaped["missing_parameters"], 0, "{s}");
         assert_ne!(shaped["vertices"], v["vertices"], "{s}");

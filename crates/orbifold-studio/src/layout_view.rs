@@ -94,6 +94,25 @@ pub fn wall_points(layout: &Layout, i: usize) -> Vec<Complex64> {
     }
 }
 
+/// A drag value for a shape parameter that stays inside its open range `(low, high)`: a value
+/// dragged or typed is kept a little inside the ends (a polygon at an end is degenerate), and
+/// one read from a file is shown as it is, never moved by showing it. The step is a two-hundredth
+/// of a bounded range, or a hundredth of the value.
+pub fn parameter_drag(value: &mut f64, (low, high): (f64, f64)) -> egui::DragValue<'_> {
+    let (inner_low, inner_high, speed) = if high.is_finite() {
+        let margin = (high - low) * 1e-3;
+        (low + margin, high - margin, (high - low) / 200.0)
+    } else {
+        let low = if low > 0.0 { low * 1.001 } else { low + 1e-3 };
+        (low, 1e6, (value.abs() / 100.0).max(1e-3))
+    };
+    egui::DragValue::new(value)
+        .range(inner_low..=inner_high)
+        .clamp_existing_to_range(false)
+        .speed(speed)
+        .max_decimals(4)
+}
+
 /// The layout view and its controls. Returns the changed scene, if the user changed it.
 pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
     let mut next = scene.clone();
@@ -119,7 +138,15 @@ pub fn show(ui: &mut Ui, scene: &Scene) -> Option<Scene> {
         let meaning = layout.parameter_meaning.describe(layout.vertices.len());
         egui::Grid::new("parameters").num_columns(2).show(ui, |ui| {
             for (i, v) in values.iter_mut().enumerate() {
-                let r = labelled_value(ui, &format!("parameter {}", i + 1), v, 0.01..=20.0, 0.01)
+                let range = layout
+                    .parameter_ranges
+                    .get(i)
+                    .copied()
+                    .unwrap_or((0.0, f64::INFINITY));
+                let label = ui.label(format!("parameter {}", i + 1));
+                let r = ui
+                    .add(parameter_drag(v, range))
+                    .labelled_by(label.id)
                     .on_hover_text(&meaning);
                 if r.hovered() || r.dragged() || r.has_focus() {
                     highlight = Some(i);

@@ -405,6 +405,8 @@ pub(crate) struct PolygonJson {
     free_parameters: Vec<f64>,
     parameter_meaning: String,
     parameter_meanings: Vec<String>,
+    /// Each parameter's open range [low, high]; null for an unbounded end.
+    parameter_ranges: Vec<[Option<f64>; 2]>,
     missing_parameters: usize,
     area: f64,
     centre: PointJson,
@@ -495,6 +497,11 @@ impl PolygonJson {
             free_parameters: polygon.parameters.clone(),
             parameter_meaning: parameter_summary(polygon),
             parameter_meanings: polygon.parameter_meanings.clone(),
+            parameter_ranges: polygon
+                .parameter_ranges
+                .iter()
+                .map(|&(low, high)| [low, high].map(|v| v.is_finite().then_some(v)))
+                .collect(),
             missing_parameters: polygon.missing_parameters,
             area: polygon.area,
             centre: PointJson {

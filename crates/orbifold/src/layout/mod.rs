@@ -256,6 +256,11 @@ pub struct Layout {
     pub edges: Vec<Edge>,
     /// The values of the free parameters of this polygon (also for the incircle shape).
     pub parameters: Vec<f64>,
+    /// Each parameter's open range of valid values: (0, ∞) for a kaleidoscopic polygon's; for a
+    /// polygon with side pairings, its construction's ([`FundamentalPolygon::parameter_ranges`]).
+    ///
+    /// [`FundamentalPolygon::parameter_ranges`]: crate::pairing::FundamentalPolygon::parameter_ranges
+    pub parameter_ranges: Vec<(f64, f64)>,
     /// What the parameters mean.
     pub parameter_meaning: ParameterMeaning,
     /// The intrinsic area (2π|χ| for spherical and hyperbolic polygons; for Euclidean ones, the
@@ -600,6 +605,7 @@ impl RawPolygon {
             geometry: space.geometry(),
             vertices,
             edges,
+            parameter_ranges: vec![(0.0, f64::INFINITY); self.parameters.len()],
             parameters: self.parameters,
             parameter_meaning: self.meaning,
             area,

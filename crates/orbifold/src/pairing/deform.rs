@@ -126,6 +126,7 @@ pub(crate) fn deformed(
     let meanings = meanings(&problem, &words, &lengths0);
     let mut draft = Draft {
         parameters: factors.clone(),
+        ranges,
         meanings,
         ..star
     };

@@ -222,6 +222,8 @@ pub struct FundamentalPolygon {
     pub parameters: Vec<f64>,
     /// What each parameter means, with its valid range and default.
     pub parameter_meanings: Vec<String>,
+    /// Each parameter's open range of valid values, as the meaning states it.
+    pub parameter_ranges: Vec<(f64, f64)>,
     /// How many of the symbol's [`OrbifoldSymbol::free_parameters`] this construction does not
     /// offer (docs/orbifolds.md says which and why).
     pub missing_parameters: usize,
@@ -255,6 +257,8 @@ pub(crate) struct Draft {
     /// An interior point.
     pub(crate) centre: DVec3,
     pub(crate) parameters: Vec<f64>,
+    /// Each parameter's open range of valid values.
+    pub(crate) ranges: Vec<(f64, f64)>,
     pub(crate) meanings: Vec<String>,
     pub(crate) construction: Construction,
 }
@@ -422,6 +426,7 @@ impl FundamentalPolygon {
             cycles,
             parameters: layout.parameters.clone(),
             parameter_meanings: meanings,
+            parameter_ranges: layout.parameter_ranges.clone(),
             construction: if layout.is_kaleidoscopic() {
                 Construction::Kaleidoscopic
             } else {
@@ -505,6 +510,7 @@ impl FundamentalPolygon {
             vertices,
             edges,
             parameters: self.parameters.clone(),
+            parameter_ranges: self.parameter_ranges.clone(),
             parameter_meaning: crate::layout::ParameterMeaning::SidePairing,
             area: self.area,
             centre: self.centre,
@@ -561,6 +567,7 @@ fn finish(
         neighbours: given,
         centre,
         parameters,
+        ranges,
         meanings,
         construction,
     } = draft;
@@ -638,6 +645,7 @@ fn finish(
         cycles,
         parameters,
         parameter_meanings: meanings,
+        parameter_ranges: ranges,
         missing_parameters: symbol.free_parameters().saturating_sub(supported),
         construction,
         area,

@@ -191,6 +191,7 @@ pub(crate) fn draft(
         glue: star.glue,
         centre: DVec3::Z,
         parameters: values,
+        ranges,
         meanings,
         construction: Construction::Star,
     })
@@ -462,6 +463,7 @@ fn balanced_draft(
         glue: star.glue,
         centre: DVec3::Z,
         parameters: values,
+        ranges: vec![],
         meanings: Vec::new(),
         construction: Construction::Star,
     })

@@ -173,7 +173,10 @@ fn all_seventeen_wallpaper_groups() {
         let p = build(s);
         assert_eq!(p.geometry, Geometry::Euclidean, "{s}");
         check(&p);
-        assert_eq!(p.missing_parameters, 0, "{s}: every lattice parameter is offered");
+        assert_eq!(
+            p.missing_parameters, 0,
+            "{s}: every lattice parameter is offered"
+        );
     }
 }
 

@@ -81,6 +81,12 @@ pub(crate) fn draft(
     Ok(Some(draft))
 }
 
+/// The lattice's shape (`o`, `2222`): |b|/|a| and the angle between a and b in degrees.
+const LATTICE_RANGES: [(f64, f64); 2] = [(0.0, f64::INFINITY), (0.0, 180.0)];
+
+/// `2*mn`: the angle at B as a fraction of π/n.
+const FOLD_RANGE: (f64, f64) = (0.0, 1.0);
+
 /// Checks user parameters against a construction's defaults and open ranges.
 pub(crate) fn take_parameters(
     given: Option<&[f64]>,
@@ -154,6 +160,7 @@ fn lune(order: Order, crosscap: bool, parameters: Option<&[f64]>) -> Result<Draf
         ],
         centre: DVec3::Z,
         parameters: vec![],
+        ranges: vec![],
         meanings: vec![],
         construction: Construction::Lune,
     })
@@ -163,11 +170,7 @@ fn lune(order: Order, crosscap: bool, parameters: Option<&[f64]>) -> Result<Draf
 /// opposite sides are paired by the translations a and b. Both lattice parameters, ρ = |b|/|a|
 /// and θ, are free; every value is valid.
 fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
-    let values = take_parameters(
-        parameters,
-        &[1.0, 90.0],
-        &[(0.0, f64::INFINITY), (0.0, 180.0)],
-    )?;
+    let values = take_parameters(parameters, &[1.0, 90.0], &LATTICE_RANGES)?;
     let (ratio, theta) = (values[0], values[1].to_radians());
     let corners = [
         num_complex::Complex64::new(0.0, 0.0),
@@ -185,6 +188,7 @@ fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, Layo
         neighbours: None,
         glue: vec![paired(2), paired(3), paired(0), paired(1)],
         parameters: values,
+        ranges: LATTICE_RANGES.to_vec(),
         meanings: vec![
             "the length of the second pair of sides divided by the first's (|b|/|a|); in (0, ∞), default 1".into(),
             "the angle between the two pairs of sides, in degrees; in (0, 180), default 90 (a rectangle)".into(),
@@ -199,11 +203,7 @@ fn parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, Layo
 /// right by the translation a. The corners 0 and a, and b/2 and a + b/2, form the other two cones
 /// of order 2 (angles θ + (π − θ) = π). Every lattice is reached, as for `o`.
 fn folded_parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draft, LayoutError> {
-    let values = take_parameters(
-        parameters,
-        &[1.0, 90.0],
-        &[(0.0, f64::INFINITY), (0.0, 180.0)],
-    )?;
+    let values = take_parameters(parameters, &[1.0, 90.0], &LATTICE_RANGES)?;
     let (ratio, theta) = (values[0], values[1].to_radians());
     let a = num_complex::Complex64::new(1.0, 0.0);
     let b = num_complex::Complex64::from_polar(ratio, theta);
@@ -232,6 +232,7 @@ fn folded_parallelogram(space: Space, parameters: Option<&[f64]>) -> Result<Draf
             paired(2),
         ],
         parameters: values,
+        ranges: LATTICE_RANGES.to_vec(),
         meanings: vec![
             "the length of the lattice's second translation divided by the first's (|b|/|a|); \
              in (0, ∞), default 1"
@@ -294,6 +295,7 @@ fn doubled_triangle(
         neighbours: Some(neighbours),
         glue: vec![paired(3), paired(2), paired(1), paired(0)],
         parameters: vec![],
+        ranges: vec![],
         meanings: vec![],
         construction: Construction::DoubledTriangle,
     })
@@ -328,6 +330,7 @@ fn cone_and_mirror(
         neighbours: None,
         glue: vec![paired(2), Glue::Mirror, paired(0)],
         parameters: vec![],
+        ranges: vec![],
         meanings: vec![],
         construction: Construction::ConeAndMirror,
     })
@@ -364,6 +367,7 @@ fn folded_on_sphere(
         neighbours: None,
         glue: folded_glue(),
         parameters: vec![],
+        ranges: vec![],
         meanings: vec![],
         construction: Construction::FoldedTriangle,
     })
@@ -377,7 +381,7 @@ fn folded(
     n: Order,
     parameters: Option<&[f64]>,
 ) -> Result<Draft, LayoutError> {
-    let values = take_parameters(parameters, &[0.5], &[(0.0, 1.0)])?;
+    let values = take_parameters(parameters, &[0.5], &[FOLD_RANGE])?;
     let share = n.corner_angle();
     let (beta, gamma) = (values[0] * share, (1.0 - values[0]) * share);
     let [a, b, c] = triangle(
@@ -396,6 +400,7 @@ fn folded(
         neighbours: None,
         glue: folded_glue(),
         parameters: values,
+        ranges: vec![FOLD_RANGE],
         meanings: vec![format!(
             "the angle at B as a fraction of π/{n}, the angle that B and C share (the corner of \
              order {n}); in (0, 1), default 0.5 (an isosceles triangle)"
