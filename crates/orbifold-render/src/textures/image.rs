@@ -49,11 +49,18 @@ impl ImageTexture {
         }
     }
 
-    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB.
+    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB. The file's bytes come through
+    /// [`orbifold_scene::files::read`] (given bytes before the disk); its format is its
+    /// extension's, as `image::open` takes it.
     pub(super) fn read(file: &Path) -> Result<ImageTexture, String> {
-        let image = image::open(file)
-            .map_err(|e| format!("cannot read texture {}: {e}", file.display()))?
-            .to_rgb8();
+        let cannot =
+            |e: &dyn std::fmt::Display| format!("cannot read texture {}: {e}", file.display());
+        let bytes = orbifold_scene::files::read(file).map_err(|e| cannot(&e))?;
+        let mut reader = image::ImageReader::new(std::io::Cursor::new(&*bytes));
+        if let Ok(format) = image::ImageFormat::from_path(file) {
+            reader.set_format(format);
+        }
+        let image = reader.decode().map_err(|e| cannot(&e))?.to_rgb8();
         let (width, height) = (image.width() as usize, image.height() as usize);
         let pixels = image
             .pixels()
