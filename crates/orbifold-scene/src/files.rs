@@ -196,6 +196,48 @@ pub fn exists(path: &Path) -> bool {
     provided(path).is_some() || path.is_file()
 }
 
+impl crate::Scene {
+    /// The files the scene names, as it names them (relative to its folder unless absolute), in
+    /// order, each once: its objects' meshes and the images of its textures.
+    ///
+    /// ```
+    /// use orbifold_scene::{Material, Scene};
+    /// let mut scene = Scene::default();
+    /// assert!(scene.named_files().is_empty());
+    /// scene.objects[0].mesh = Some("bunny.obj".into());
+    /// scene.room.floor = Material::Texture {
+    ///     path: "wood.png".into(),
+    ///     scale: 0.5,
+    ///     coordinates: Default::default(),
+    /// };
+    /// assert_eq!(scene.named_files(), ["wood.png", "bunny.obj"]);
+    /// ```
+    pub fn named_files(&self) -> Vec<String> {
+        let room = &self.room;
+        let materials = [&room.wall_material, &room.floor, &room.ceiling]
+            .into_iter()
+            .chain(self.walls.iter().filter_map(|w| w.material.as_ref()))
+            .chain(self.objects.iter().map(|o| &o.material));
+        let textures = materials.filter_map(|m| match m {
+            crate::Material::Texture { path, .. } => Some(path),
+            _ => None,
+        });
+        let meshes = self.objects.iter().filter_map(|o| o.mesh.as_ref());
+        let mut names: Vec<String> = Vec::new();
+        for name in textures.chain(meshes) {
+            if !names.contains(name) {
+                names.push(name.clone());
+            }
+        }
+        names
+    }
+}
+
+/// What validation says of a named file at `path` that is neither given nor on the disk.
+pub(crate) fn missing_message(path: &Path) -> String {
+    format!("the file {} does not exist", path.display())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

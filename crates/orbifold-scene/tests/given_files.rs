@@ -141,3 +141,18 @@ fn a_gltf_file_finds_its_external_buffer_among_the_given_files() {
     let mesh = orbifold_scene::mesh::import::load_mesh(path).unwrap();
     assert_eq!(mesh.triangles.len(), 1);
 }
+
+#[test]
+fn a_recovered_scene_comes_back_with_the_files_that_are_missing() {
+    files::provide("given-d/tetrahedron.obj", TETRAHEDRON.to_vec());
+    let origin = Path::new("given-d/room.toml");
+    let text = scene_text("tetrahedron.obj", "gone.png");
+    let (scene, missing) = Scene::from_toml_missing_files(&text, Some(origin)).unwrap();
+    assert_eq!(scene.objects[0].mesh.as_deref(), Some("tetrahedron.obj"));
+    assert_eq!(missing, [Path::new("given-d/gone.png")]);
+    assert_eq!(scene.named_files(), ["gone.png", "tetrahedron.obj"]);
+    // Other problems are still errors.
+    let bad = text.replace("height = 1", "height = -1");
+    assert_ne!(bad, text);
+    assert!(Scene::from_toml_missing_files(&bad, Some(origin)).is_err());
+}
