@@ -337,7 +337,9 @@ test("unsaved work survives a reload of the page and is restored", { timeout: SL
   await frames(10);
   const restored = await page.screenshot({ clip: LEFT });
   assert.ok((await compare(restored, offered)).changed > 0.02, "the design panel did not change");
-  // The dropped mesh and image came back with it (the scene names them; nothing is missing).
+  // The dropped mesh and image came back with it (the scene names them; nothing is missing):
+  // the 3D view draws (a mesh it could not read would leave an error in its place).
+  assert.ok((await compare(await settled(MIDDLE))).spread > 10, "the restored 3D view is blank");
   const work = await recovery();
   assert.match(work ?? "", /mesh = "box\.obj"/);
   assert.match(work ?? "", /path = "red\.png"/);
