@@ -193,6 +193,55 @@ mod tests {
         }
     }
 
+    /// A PNG of one row: red, then blue.
+    fn red_blue_png() -> Vec<u8> {
+        let image = image::RgbImage::from_fn(2, 1, |x, _| {
+            image::Rgb(if x == 0 { [255, 0, 0] } else { [0, 0, 255] })
+        });
+        let mut bytes = Vec::new();
+        image
+            .write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .unwrap();
+        bytes
+    }
+
+    #[test]
+    fn a_texture_given_by_bytes_is_read_as_a_file_would_be() {
+        orbifold_scene::files::provide("render-unit/given.png", red_blue_png());
+        let t = ImageTexture::read(Path::new("render-unit/given.png")).unwrap();
+        assert_eq!((t.width, t.height), (2, 1));
+        assert_eq!(t.texel(0.25, 0.5), [1.0, 0.0, 0.0]);
+        assert_eq!(t.texel(0.75, 0.5), [0.0, 0.0, 1.0]);
+        // A scene that names it, with the folder it is given in: the renderer takes it.
+        let mut scene = orbifold_scene::Scene::default();
+        scene.room.floor = orbifold_scene::Material::Texture {
+            path: "given.png".into(),
+            scale: 0.5,
+            coordinates: Default::default(),
+        };
+        let settings = crate::integrator::Settings::default();
+        let base = Some(Path::new("render-unit"));
+        assert!(crate::integrator::Integrator::from_scene(&scene, base, settings).is_ok());
+        // Not given, and not on the disk: the error names the file, as it always did.
+        let error = ImageTexture::read(Path::new("render-unit/missing.png")).unwrap_err();
+        assert!(
+            error.starts_with("cannot read texture render-unit/missing.png: "),
+            "{error}"
+        );
+        scene.room.floor = orbifold_scene::Material::Texture {
+            path: "missing.png".into(),
+            scale: 0.5,
+            coordinates: Default::default(),
+        };
+        let error = crate::integrator::Integrator::from_scene(&scene, base, settings)
+            .err()
+            .expect("the texture is missing");
+        assert!(error.contains("render-unit/missing.png"), "{error}");
+    }
+
     #[test]
     fn a_box_without_area_or_within_a_texel_is_the_texel() {
         let t = texture();
