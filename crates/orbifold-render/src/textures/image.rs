@@ -236,9 +236,10 @@ mod tests {
             scale: 0.5,
             coordinates: Default::default(),
         };
-        let error = crate::integrator::Integrator::from_scene(&scene, base, settings)
-            .err()
-            .expect("the texture is missing");
+        let error = match crate::integrator::Integrator::from_scene(&scene, base, settings) {
+            Ok(_) => panic!("the texture is missing, but the scene was taken"),
+            Err(error) => error,
+        };
         assert!(error.contains("render-unit/missing.png"), "{error}");
     }
 
