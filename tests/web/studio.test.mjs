@@ -99,6 +99,10 @@ const RESTORE = { x: 53, y: 100 };
 const RENDER_TAB = { x: 458, y: 68 };
 const RENDER_WIDTH = { x: 410, y: 91 };
 const RENDER_BUTTON = { x: 872, y: 91 };
+// The studio's File menu, and its Open… and Save As… items.
+const FILE_MENU = { x: 24, y: 36 };
+const FILE_OPEN = { x: 40, y: 84 };
+const FILE_SAVE_AS = { x: 48, y: 156 };
 
 /** Clicks at `at`, holding the button down a little: a press and release within one frame of
  * a busy page (a render taking its rounds) can be missed. */
@@ -256,23 +260,60 @@ test("a scene file opened through the file input loads", { timeout: SLOW }, asyn
   assert.deepEqual(errors, [], "console errors");
 });
 
-test("a scene file dropped on the page opens, a mesh is refused", { timeout: SLOW }, async () => {
-  const drop = (name, text) => page.evaluate(([n, t]) => {
+/** Drops a file called `name` with `bytes` (a string, or base64 when `encoded`) on the page,
+ * as a person dragging it from their files would. */
+function drop(name, bytes, encoded = false) {
+  return page.evaluate(([n, b, e]) => {
     const data = new DataTransfer();
-    data.items.add(new File([t], n, { type: "application/octet-stream" }));
+    const content = e ? Uint8Array.from(atob(b), (c) => c.charCodeAt(0)) : b;
+    data.items.add(new File([content], n, { type: "application/octet-stream" }));
     const canvas = document.getElementById("studio");
     for (const type of ["dragenter", "dragover", "drop"]) {
       canvas.dispatchEvent(new DragEvent(type, { dataTransfer: data, bubbles: true, cancelable: true }));
     }
-  }, [name, text]);
+  }, [name, bytes, encoded]);
+}
+
+/** A closed box 0.8 wide and 1.6 tall, as OBJ: the mesh the tests drop. */
+const BOX_OBJ = [
+  "v -0.4 0 -0.4", "v 0.4 0 -0.4", "v 0.4 0 0.4", "v -0.4 0 0.4",
+  "v -0.4 1.6 -0.4", "v 0.4 1.6 -0.4", "v 0.4 1.6 0.4", "v -0.4 1.6 0.4",
+  "f 1 2 3 4", "f 8 7 6 5", "f 1 5 6 2", "f 2 6 7 3", "f 3 7 8 4", "f 4 8 5 1", "",
+].join("\n");
+
+/** A 2×2 PNG, all red. */
+const RED_PNG = "iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAEElEQVR42mP4z8AARAwQCgAf7gP9Y167WwAAAABJRU5ErkJggg==";
+
+/** The unsaved work the page keeps, as text. */
+const recovery = () => page.evaluate(() => localStorage.getItem("orbifold-studio/recovery"));
+
+test("a dropped scene opens, a dropped mesh becomes an object, a PNG goes on the floor", { timeout: SLOW }, async () => {
   const scene = fs.readFileSync(path.join(root, "examples/scenes/fig-1.2-444.toml"), "utf8");
   await drop("fig-1.2-444.toml", scene);
   await page.waitForFunction(() => document.title.startsWith("fig-1.2-444.toml"), null, { timeout: SLOW });
-  // A mesh cannot be used in the browser: the document stays as it is.
-  await drop("bunny.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const before = await settled(MIDDLE);
+  // A file the studio does not take changes nothing.
+  await drop("notes.txt", "not a scene");
   await frames(20);
   assert.match(await page.title(), /^fig-1\.2-444\.toml — orbifold studio$/);
-  await shot("dropped", FULL);
+  // A mesh is added at the room's centre, where the camera looks, with its mirror images.
+  await drop("box.obj", BOX_OBJ);
+  await page.waitForFunction(() => document.title.includes("•"), null, { timeout: SLOW });
+  const withBox = await settled(MIDDLE);
+  await shot("dropped-mesh", FULL);
+  const added = await compare(withBox, before);
+  assert.ok(added.changed > 0.01, `the 3D view did not change: ${JSON.stringify(added)}`);
+  assert.match(await recovery() ?? "", /mesh = "box\.obj"/);
+  // The mesh is kept with the unsaved work, for a reload.
+  const kept = await page.evaluate(() => localStorage.getItem("orbifold-studio/file/box.obj"));
+  assert.equal(Buffer.from(kept ?? "", "base64").toString(), BOX_OBJ);
+  // An image goes on the surface the room panel names for dropped images (the floor).
+  await drop("red.png", RED_PNG, true);
+  await page.waitForFunction(() => /path = "red\.png"/.test(localStorage.getItem("orbifold-studio/recovery") ?? ""), null, { timeout: SLOW });
+  const floored = await settled(MIDDLE);
+  await shot("dropped-texture", FULL);
+  assert.ok((await compare(floored, withBox)).changed > 0.01, "the floor did not change");
+  assert.ok(await page.evaluate(() => localStorage.getItem("orbifold-studio/file/red.png") !== null));
   assert.deepEqual(errors, [], "console errors");
 });
 
@@ -296,5 +337,45 @@ test("unsaved work survives a reload of the page and is restored", { timeout: SL
   await frames(10);
   const restored = await page.screenshot({ clip: LEFT });
   assert.ok((await compare(restored, offered)).changed > 0.02, "the design panel did not change");
+  // The dropped mesh and image came back with it (the scene names them; nothing is missing):
+  // the 3D view draws (a mesh it could not read would leave an error in its place).
+  assert.ok((await compare(await settled(MIDDLE))).spread > 10, "the restored 3D view is blank");
+  const work = await recovery();
+  assert.match(work ?? "", /mesh = "box\.obj"/);
+  assert.match(work ?? "", /path = "red\.png"/);
+  assert.ok(await page.evaluate(() => localStorage.getItem("orbifold-studio/file/box.obj") !== null));
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("the File menu opens the browser's file picker and saves as a download", { timeout: SLOW }, async () => {
+  const before = await settled(MIDDLE);
+  // The menu, then its item: a click on a busy page (SwiftShader drawing the preview on the
+  // CPU) can be missed, so the two clicks are tried again, up to three times.
+  let chooser;
+  for (let attempt = 0; attempt < 3 && !chooser; attempt += 1) {
+    await click(FILE_MENU);
+    await frames(5);
+    await shot("file-menu", FULL);
+    [chooser] = await Promise.all([
+      page.waitForEvent("filechooser", { timeout: 20_000 }).catch(() => undefined),
+      click(FILE_OPEN),
+    ]);
+  }
+  assert.ok(chooser, "File → Open… did not open the file picker");
+  assert.equal(await chooser.element().getAttribute("accept"), ".toml");
+  await chooser.setFiles(path.join(root, "examples/scenes/fig-8.8-2233.toml"));
+  await page.waitForFunction(() => document.title.startsWith("fig-8.8-2233.toml"), null, { timeout: SLOW });
+  const after = await settled(MIDDLE);
+  assert.ok((await compare(after, before)).changed > 0.05, "the 3D view did not change");
+  // Save As… hands the scene to the browser as a download, under the name it was opened as.
+  await click(FILE_MENU);
+  await frames(5);
+  const [download] = await Promise.all([
+    page.waitForEvent("download", { timeout: 30_000 }),
+    click(FILE_SAVE_AS),
+  ]);
+  assert.equal(download.suggestedFilename(), "fig-8.8-2233.toml");
+  const saved = fs.readFileSync(await download.path(), "utf8");
+  assert.match(saved, /signature = "\*2233"/);
   assert.deepEqual(errors, [], "console errors");
 });

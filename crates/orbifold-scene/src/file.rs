@@ -61,6 +61,39 @@ impl Scene {
     /// assert_eq!(errors[0].position, Some((2, 10)));
     /// ```
     pub fn from_toml(text: &str, origin: Option<&Path>) -> Result<Scene, Vec<SceneError>> {
+        Scene::read_toml(text, origin, false).map(|(scene, _)| scene)
+    }
+
+    /// Reads a scene from TOML as [`Scene::from_toml`] does, except that a file it names that
+    /// is not there (neither given to [`crate::files`] nor on the disk) is no error: returns the
+    /// scene and those files' paths, resolved as validation resolves them. For a copy of
+    /// unsaved work whose files may have gone (the web studio's recovery): the scene comes back,
+    /// and the user is told which files to give again.
+    ///
+    /// ```
+    /// use std::path::PathBuf;
+    /// use orbifold_scene::Scene;
+    /// let mut scene = Scene::default();
+    /// scene.objects[0].mesh = Some("gone.obj".into());
+    /// let text = scene.to_toml();
+    /// assert!(Scene::from_toml(&text, None).is_err());
+    /// let (again, missing) = Scene::from_toml_missing_files(&text, None).unwrap();
+    /// assert_eq!(again, scene);
+    /// assert_eq!(missing, [PathBuf::from("gone.obj")]);
+    /// ```
+    pub fn from_toml_missing_files(
+        text: &str,
+        origin: Option<&Path>,
+    ) -> Result<(Scene, Vec<PathBuf>), Vec<SceneError>> {
+        Scene::read_toml(text, origin, true)
+    }
+
+    /// [`Scene::from_toml`], with missing files allowed (and listed) when `missing_allowed`.
+    fn read_toml(
+        text: &str,
+        origin: Option<&Path>,
+        missing_allowed: bool,
+    ) -> Result<(Scene, Vec<PathBuf>), Vec<SceneError>> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| {
             vec![SceneError {
                 file: origin.map(Path::to_path_buf),
@@ -75,9 +108,27 @@ impl Scene {
             scene.place_unwritten(&crate::placement::Written::of(&table));
         }
         let base = origin.and_then(Path::parent).map(Path::to_path_buf);
-        let problems = validate(&scene, base.as_deref());
+        let mut problems = validate(&scene, base.as_deref());
+        let mut missing = Vec::new();
+        if missing_allowed {
+            let resolve = |name: &String| {
+                base.as_ref()
+                    .map_or_else(|| PathBuf::from(name), |b| b.join(name))
+            };
+            missing = scene
+                .named_files()
+                .iter()
+                .map(resolve)
+                .filter(|path| !crate::files::exists(path))
+                .collect();
+            let messages: Vec<String> = missing
+                .iter()
+                .map(|p| crate::files::missing_message(p))
+                .collect();
+            problems.retain(|(_, message)| !messages.contains(message));
+        }
         if problems.is_empty() {
-            return Ok(scene);
+            return Ok((scene, missing));
         }
         let document = toml_edit::Document::parse(text.to_string()).ok();
         Err(problems

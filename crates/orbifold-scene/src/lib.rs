@@ -17,6 +17,7 @@ pub mod color;
 pub mod document;
 pub mod export;
 pub mod file;
+pub mod files;
 pub mod geometry;
 pub mod mesh;
 pub mod part;

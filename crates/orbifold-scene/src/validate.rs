@@ -405,11 +405,8 @@ fn unit_color(p: &mut Problems, key: &str, color: &Color) {
 
 fn file_exists(p: &mut Problems, key: &str, name: &str, base: Option<&Path>) {
     let path = base.map_or_else(|| Path::new(name).to_path_buf(), |b| b.join(name));
-    if !path.is_file() {
-        p.push((
-            key.into(),
-            format!("the file {} does not exist", path.display()),
-        ));
+    if !crate::files::exists(&path) {
+        p.push((key.into(), crate::files::missing_message(&path)));
     }
 }
 

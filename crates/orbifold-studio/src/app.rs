@@ -29,7 +29,7 @@ pub enum Tab {
 }
 
 /// The studio's own file dialog, where a path is typed in: used when no [`FileDialogs`] are
-/// given (the web, and tests that drive the typed dialog).
+/// given (tests that drive the typed dialog; the desktop and the web give theirs).
 #[derive(Clone, Debug, PartialEq, Eq)]
 enum Dialog {
     Open(String),
@@ -71,6 +71,8 @@ pub struct Studio {
     pub dialogs: Option<Box<dyn FileDialogs>>,
     /// A dialog asked for in this frame, shown after it (with the surface an image is for).
     pending: Option<(Request, Option<Target>)>,
+    /// The last dialog that gave no answer at once, which may answer later ([`Studio::answer`]).
+    awaiting: Option<(Request, Option<Target>)>,
     /// The examples browser.
     pub examples: ExamplesBrowser,
 }
@@ -122,6 +124,7 @@ impl Studio {
             listen: ListenPanel::default(),
             dialogs: None,
             pending: None,
+            awaiting: None,
             examples: ExamplesBrowser::default(),
         }
     }
@@ -243,8 +246,35 @@ impl Studio {
         let Some(dialogs) = &mut self.dialogs else {
             return;
         };
-        if let Some(path) = dialogs.ask(request, &suggested) {
-            self.chosen(request, target, &path);
+        match dialogs.ask(request, &suggested) {
+            Some(path) => self.chosen(request, target, &path),
+            None => self.awaiting = Some((request, target)),
+        }
+    }
+
+    /// A file chosen for the last dialog that did not answer at once (the browser's file
+    /// picker hands its file over later): does what `request` asked it for, with the surface an
+    /// image was asked for. Returns `false`, doing nothing, when that dialog asked for
+    /// something else or nothing is awaited.
+    ///
+    /// ```
+    /// use std::path::{Path, PathBuf};
+    /// use orbifold_studio::Studio;
+    /// use orbifold_studio::dialogs::Request;
+    /// use orbifold_studio::document::Document;
+    /// let mut studio = Studio::new(Document::new(None), None);
+    /// // No dialog asked: nothing happens.
+    /// assert!(!studio.answer(Request::PickMesh, Path::new("bunny.obj")));
+    /// assert_eq!(studio.document.scene().objects.len(), 1);
+    /// ```
+    pub fn answer(&mut self, request: Request, path: &std::path::Path) -> bool {
+        match self.awaiting {
+            Some((asked, target)) if asked == request => {
+                self.awaiting = None;
+                self.chosen(request, target, path);
+                true
+            }
+            _ => false,
         }
     }
 
@@ -381,9 +411,10 @@ impl Studio {
     }
 
     fn save(&mut self) {
+        let handed_over = self.dialogs.as_ref().is_some_and(|d| d.hands_files_over());
         match self.document.path().map(std::path::Path::to_path_buf) {
-            Some(path) => self.save_as(&path),
-            None => self.ask(Request::SaveScene, None),
+            Some(path) if !handed_over => self.save_as(&path),
+            _ => self.ask(Request::SaveScene, None),
         }
     }
 

@@ -2,9 +2,17 @@
 //! a texture for the room panel.
 //!
 //! The studio asks through the [`FileDialogs`] trait, so that each platform supplies its own:
-//! the desktop build the system's dialogs ([`NativeDialogs`], the `rfd` crate), the tests a
-//! scripted fake that answers with paths, and a build without either (the web) the studio's own
-//! window in which a path is typed (`Studio::dialogs` left `None`).
+//! the desktop build the system's dialogs ([`NativeDialogs`], the `rfd` crate), the web build
+//! the browser's file picker and downloads (`orbifold-web`), the tests a scripted fake that
+//! answers with paths, and a build without any the studio's own window in which a path is typed
+//! (`Studio::dialogs` left `None`).
+//!
+//! A dialog may answer later: the browser's file picker returns at once and hands the file over
+//! when the user has chosen it. Such dialogs return `None` and the platform gives the studio the
+//! file afterwards with `Studio::answer`, which remembers what was asked (and for which
+//! surface). Dialogs that hand the files over themselves (a download in place of a path to
+//! write to) say so with [`FileDialogs::hands_files_over`]: then the studio asks them whenever
+//! it saves, even when the document already has a file.
 
 use std::path::{Path, PathBuf};
 
@@ -62,6 +70,27 @@ pub trait FileDialogs {
     fn pick_mesh(&mut self) -> Option<PathBuf>;
     /// An image for a surface's texture.
     fn pick_texture(&mut self) -> Option<PathBuf>;
+
+    /// Whether these dialogs hand the saved files over themselves (the browser's downloads),
+    /// so that the studio never writes to a path: then **Save** asks them every time, as
+    /// **Save As…** does. `false` unless a platform says otherwise.
+    ///
+    /// ```
+    /// use std::path::{Path, PathBuf};
+    /// use orbifold_studio::dialogs::FileDialogs;
+    /// struct Cancelling;
+    /// impl FileDialogs for Cancelling {
+    ///     fn open_scene(&mut self) -> Option<PathBuf> { None }
+    ///     fn save_scene(&mut self, _: &Path) -> Option<PathBuf> { None }
+    ///     fn save_picture(&mut self, _: &Path) -> Option<PathBuf> { None }
+    ///     fn pick_mesh(&mut self) -> Option<PathBuf> { None }
+    ///     fn pick_texture(&mut self) -> Option<PathBuf> { None }
+    /// }
+    /// assert!(!Cancelling.hands_files_over());
+    /// ```
+    fn hands_files_over(&self) -> bool {
+        false
+    }
 
     /// Asks what `request` asks for (`suggested` matters for saving only).
     fn ask(&mut self, request: Request, suggested: &Path) -> Option<PathBuf> {

@@ -87,6 +87,22 @@ impl View3d {
         self.window = window;
     }
 
+    /// Loads the scene's files again for the next frame, though the scene has not changed: a
+    /// file it names has been given since (a mesh dropped on the web studio's page after the
+    /// scene that names it was opened).
+    ///
+    /// ```
+    /// use orbifold_scene::Scene;
+    /// use orbifold_studio::view3d::View3d;
+    /// let mut view = View3d::new(&Scene::default());
+    /// view.reload();
+    /// assert_eq!(view.drawn_size(), None);
+    /// ```
+    pub fn reload(&mut self) {
+        self.drawn = None;
+        self.loaded = None;
+    }
+
     /// Draws the preview on the window's GPU (eframe's wgpu device) and shows its frames
     /// without copying them back to the CPU, in place of a device of its own: what the web
     /// studio does.

@@ -24,6 +24,8 @@ type Asked = Rc<RefCell<Vec<(Request, Option<PathBuf>)>>>;
 struct Scripted {
     answers: VecDeque<Option<PathBuf>>,
     asked: Asked,
+    /// Whether they say they hand saved files over themselves, as the browser's downloads do.
+    hands_over: bool,
 }
 
 impl Scripted {
@@ -51,15 +53,29 @@ impl FileDialogs for Scripted {
     fn pick_texture(&mut self) -> Option<PathBuf> {
         self.answer(Request::PickTexture, None)
     }
+    fn hands_files_over(&self) -> bool {
+        self.hands_over
+    }
 }
 
 /// A studio on `scene` whose dialogs answer `answers` in turn.
 fn harness(scene: Scene, answers: Vec<Option<PathBuf>>) -> (Harness<'static, Studio>, Asked) {
+    harness_on(Document::with_scene(scene, None, None), answers, false)
+}
+
+/// A studio on `document` whose dialogs answer `answers` in turn and, with `hands_over`, say
+/// that they hand saved files over themselves.
+fn harness_on(
+    document: Document,
+    answers: Vec<Option<PathBuf>>,
+    hands_over: bool,
+) -> (Harness<'static, Studio>, Asked) {
     let asked = Asked::default();
-    let mut studio = Studio::new(Document::with_scene(scene, None, None), None);
+    let mut studio = Studio::new(document, None);
     studio.dialogs = Some(Box::new(Scripted {
         answers: answers.into(),
         asked: asked.clone(),
+        hands_over,
     }));
     let harness = Harness::builder()
         .with_size(egui::vec2(1440.0, 1600.0))
@@ -429,4 +445,53 @@ fn without_file_dialogs_a_picked_file_is_typed_in_the_studio_s_own_window() {
         &harness.state().document.scene().room.floor,
         Material::Texture { path, .. } if Path::new(path) == png
     ));
+}
+
+#[test]
+fn dialogs_that_answer_later_and_hand_files_over_as_a_browser_does() {
+    let tmp = folder("later");
+    let mesh = tmp.path().join("tetrahedron.obj");
+    std::fs::write(&mesh, TETRAHEDRON).unwrap();
+    let png = tmp.path().join("wood.png");
+    write_png(&png);
+    let file = tmp.path().join("room.toml");
+    Scene::default().save(&file).unwrap();
+    let document = Document::open(&file, None).unwrap();
+    // Every dialog returns at once with nothing: the browser's picker answers later.
+    let (mut harness, asked) = harness_on(document, vec![None; 4], true);
+    // A file nobody asked for is not taken as an answer.
+    assert!(!harness.state_mut().answer(Request::PickMesh, &mesh));
+    harness.get_by_label("pick mesh…").click();
+    harness.run();
+    assert_eq!(harness.state().document.scene().objects.len(), 1);
+    // The answer for another question is not taken either; the mesh's is, once.
+    assert!(!harness.state_mut().answer(Request::PickTexture, &png));
+    assert!(harness.state_mut().answer(Request::PickMesh, &mesh));
+    assert!(!harness.state_mut().answer(Request::PickMesh, &mesh));
+    harness.run();
+    let scene = harness.state().document.scene().clone();
+    assert_eq!(scene.objects.len(), 2);
+    assert_eq!(scene.objects[1].mesh.as_deref(), Some("tetrahedron.obj"));
+    // An image picked later goes on the surface whose button asked for it.
+    harness.get_by_label("ceiling: image").click();
+    harness.run();
+    harness.get_by_label("pick ceiling image…").click();
+    harness.run();
+    assert!(harness.state_mut().answer(Request::PickTexture, &png));
+    match &harness.state().document.scene().room.ceiling {
+        Material::Texture { path, .. } => assert_eq!(path, "wood.png"),
+        other => panic!("the ceiling is {other:?}"),
+    }
+    // Save, though the document has its file, asks the dialogs (a download), and the studio
+    // writes nothing itself.
+    let before = std::fs::read_to_string(&file).unwrap();
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::S);
+    harness.run();
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), before);
+    let requests: Vec<Request> = asked.borrow().iter().map(|(r, _)| *r).collect();
+    assert_eq!(
+        requests,
+        [Request::PickMesh, Request::PickTexture, Request::SaveScene]
+    );
+    assert_eq!(asked.borrow()[2].1.as_deref(), Some(file.as_path()));
 }

@@ -1,10 +1,23 @@
 //! Files as the browser hands them over (a name and bytes), and the files the web studio hands
-//! back as downloads.
+//! back as downloads or keeps in the browser's storage.
+//!
+//! A page has no disk: a mesh or an image dropped on it (or picked in the browser's file
+//! picker) is given to [`orbifold_scene::files`] under its name, and the scene names it by that
+//! name, so that the preview, the render and the exports read it as the desktop reads a file
+//! beside the scene. Unsaved work is kept in `localStorage`: the scene's TOML under
+//! [`RECOVERY_KEY`] and each given file it needs under [`FILE_KEY_PREFIX`] and its name, in
+//! base64 ([`base64`], [`from_base64`]), as long as the browser's storage holds them.
+
+use std::path::{Path, PathBuf};
 
 use orbifold_scene::Scene;
 
 /// The `localStorage` key under which unsaved work is kept.
 pub const RECOVERY_KEY: &str = "orbifold-studio/recovery";
+
+/// The `localStorage` keys of the given files that unsaved work needs: this, then the file's
+/// name; the value is the file's bytes in base64.
+pub const FILE_KEY_PREFIX: &str = "orbifold-studio/file/";
 
 /// What a file given to the page (picked or dropped) is, by its name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,8 +26,10 @@ pub enum Kind {
     Scene,
     /// A mesh (`.obj`, `.ply`, `.gltf`, `.glb`).
     Mesh,
-    /// A texture picture (`.png`, `.jpg`, `.jpeg`, `.exr`, `.hdr`).
+    /// A texture picture (`.png`, `.jpg`, `.jpeg`: what the renderer's texture reader decodes).
     Texture,
+    /// A glTF file's external buffer (`.bin`), kept for the `.gltf` files that name it.
+    Buffer,
     /// Anything else.
     Other,
 }
@@ -25,6 +40,8 @@ pub enum Kind {
 /// use orbifold_web::files::{Kind, kind};
 /// assert_eq!(kind("room.TOML"), Kind::Scene);
 /// assert_eq!(kind("bunny.obj"), Kind::Mesh);
+/// assert_eq!(kind("wood.JPG"), Kind::Texture);
+/// assert_eq!(kind("scene.bin"), Kind::Buffer);
 /// assert_eq!(kind("notes.txt"), Kind::Other);
 /// ```
 pub fn kind(name: &str) -> Kind {
@@ -35,16 +52,27 @@ pub fn kind(name: &str) -> Kind {
     match extension.as_str() {
         "toml" => Kind::Scene,
         "obj" | "ply" | "gltf" | "glb" => Kind::Mesh,
-        "png" | "jpg" | "jpeg" | "exr" | "hdr" => Kind::Texture,
+        "png" | "jpg" | "jpeg" => Kind::Texture,
+        "bin" => Kind::Buffer,
         _ => Kind::Other,
     }
 }
 
 /// Reads a scene file's bytes, with every error at its line as `orbifold scene check` shows
-/// them.
-pub fn scene(name: &str, bytes: &[u8]) -> Result<Scene, String> {
+/// them. The files it names need not have been given yet: they come back as a list, to be
+/// asked for (a scene opened in the browser finds its meshes and images only once they are
+/// dropped on the page).
+///
+/// ```
+/// use std::path::PathBuf;
+/// let text = "[[objects]]\nmesh = \"bunny.obj\"\n";
+/// let (scene, missing) = orbifold_web::files::scene("room.toml", text.as_bytes()).unwrap();
+/// assert_eq!(scene.objects[0].mesh.as_deref(), Some("bunny.obj"));
+/// assert_eq!(missing, [PathBuf::from("bunny.obj")]);
+/// ```
+pub fn scene(name: &str, bytes: &[u8]) -> Result<(Scene, Vec<PathBuf>), String> {
     let text = std::str::from_utf8(bytes).map_err(|e| format!("{name} is not UTF-8 text: {e}"))?;
-    Scene::from_toml(text, Some(std::path::Path::new(name))).map_err(|errors| {
+    Scene::from_toml_missing_files(text, Some(Path::new(name))).map_err(|errors| {
         errors
             .iter()
             .map(ToString::to_string)
@@ -53,18 +81,147 @@ pub fn scene(name: &str, bytes: &[u8]) -> Result<Scene, String> {
     })
 }
 
-/// Why a file of this kind cannot be used by the web studio as it is, or `None` for a scene.
-/// Meshes and textures are named by the scene and read from the disk beside it, which a page
-/// cannot reach.
+/// Reads unsaved work kept in `localStorage` (the text of its scene): the scene, and the files
+/// it names that have not been given. A recovered document has no file of its own, so the
+/// names are taken as they are written.
+///
+/// ```
+/// use orbifold_scene::Scene;
+/// let (scene, missing) = orbifold_web::files::recovered(&Scene::default().to_toml()).unwrap();
+/// assert_eq!(scene, Scene::default());
+/// assert!(missing.is_empty());
+/// assert!(orbifold_web::files::recovered("[room]\nheight = -1\n").is_err());
+/// ```
+pub fn recovered(text: &str) -> Result<(Scene, Vec<PathBuf>), String> {
+    Scene::from_toml_missing_files(text, None).map_err(|errors| {
+        errors
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("\n")
+    })
+}
+
+/// Why the web studio does not take a file, or `None` for the kinds it takes: scenes, meshes,
+/// glTF buffers and images.
+///
+/// ```
+/// use orbifold_web::files::refusal;
+/// assert_eq!(refusal("bunny.ply"), None);
+/// assert!(refusal("notes.txt").unwrap().contains("notes.txt"));
+/// ```
 pub fn refusal(name: &str) -> Option<String> {
     match kind(name) {
-        Kind::Scene => None,
-        Kind::Mesh | Kind::Texture => Some(format!(
-            "{name}: the web studio cannot use meshes or textures yet (a scene reads them from \
-             the disk beside it); use the desktop studio or a built-in shape"
+        Kind::Scene | Kind::Mesh | Kind::Texture | Kind::Buffer => None,
+        Kind::Other => Some(format!(
+            "cannot take {name}: drop a scene (.toml), a mesh (.obj, .ply, .gltf, .glb, with a \
+             glTF file's .bin buffers) or an image (.png, .jpg)"
         )),
-        Kind::Other => Some(format!("{name}: not a scene file (.toml)")),
     }
+}
+
+/// A list of names for a message: "a", "a and b", "a, b and c".
+///
+/// ```
+/// use std::path::PathBuf;
+/// use orbifold_web::files::listed;
+/// let names = [PathBuf::from("a.obj"), PathBuf::from("b.png"), PathBuf::from("c.bin")];
+/// assert_eq!(listed(&names[..1]), "a.obj");
+/// assert_eq!(listed(&names), "a.obj, b.png and c.bin");
+/// ```
+pub fn listed(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    match names.split_last() {
+        None => String::new(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+    }
+}
+
+/// The given files ([`orbifold_scene::files`]) that `scene`, kept with `base` as its folder,
+/// needs to be restored: the files it names that were given, and every given glTF buffer
+/// (`.bin`: the `.gltf` files name them, not the scene).
+///
+/// ```
+/// use std::path::{Path, PathBuf};
+/// use orbifold_scene::{Scene, files};
+/// files::provide("needed-example.obj", b"v 0 0 0".to_vec());
+/// let mut scene = Scene::default();
+/// assert!(!orbifold_web::files::needed(&scene, None).contains(&PathBuf::from("needed-example.obj")));
+/// scene.objects[0].mesh = Some("needed-example.obj".into());
+/// assert!(orbifold_web::files::needed(&scene, None).contains(&PathBuf::from("needed-example.obj")));
+/// files::forget(Path::new("needed-example.obj"));
+/// ```
+pub fn needed(scene: &Scene, base: Option<&Path>) -> Vec<PathBuf> {
+    let given = orbifold_scene::files::provided_paths();
+    let named = scene
+        .named_files()
+        .into_iter()
+        .map(|name| base.map_or_else(|| PathBuf::from(&name), |b| b.join(&name)));
+    let mut needed: Vec<PathBuf> = named
+        .filter(|path| orbifold_scene::files::provided(path).is_some())
+        .collect();
+    for path in given {
+        if kind(&path.to_string_lossy()) == Kind::Buffer && !needed.contains(&path) {
+            needed.push(path);
+        }
+    }
+    needed
+}
+
+const BASE64: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+/// `bytes` in standard base64, padded: how a file is kept in `localStorage`, which holds text.
+///
+/// ```
+/// assert_eq!(orbifold_web::files::base64(b"orbifold"), "b3JiaWZvbGQ=");
+/// ```
+pub fn base64(bytes: &[u8]) -> String {
+    let mut text = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                text.push(BASE64[((n >> (18 - 6 * i)) & 63) as usize] as char);
+            } else {
+                text.push('=');
+            }
+        }
+    }
+    text
+}
+
+/// The bytes of standard base64 `text` (padding optional), or `None` when it is not base64.
+///
+/// ```
+/// use orbifold_web::files::{base64, from_base64};
+/// assert_eq!(from_base64("b3JiaWZvbGQ=").unwrap(), b"orbifold");
+/// assert_eq!(from_base64(&base64(&[0, 255, 7])).unwrap(), [0, 255, 7]);
+/// assert_eq!(from_base64("not base64!"), None);
+/// ```
+pub fn from_base64(text: &str) -> Option<Vec<u8>> {
+    let text = text.trim_end_matches('=').as_bytes();
+    if text.len() % 4 == 1 {
+        return None;
+    }
+    let mut bytes = Vec::with_capacity(text.len() / 4 * 3 + 2);
+    let (mut acc, mut bits) = (0u32, 0);
+    for &c in text {
+        let value = BASE64.iter().position(|&b| b == c)? as u32;
+        acc = (acc << 6) | value;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            bytes.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    Some(bytes)
 }
 
 /// A rendered picture (RGBA8, as the render job shows it) as PNG bytes, for a download.
@@ -88,7 +245,8 @@ mod tests {
     #[test]
     fn a_scene_reads_from_its_bytes_and_a_bad_one_says_where() {
         let text = include_str!("../../../examples/scenes/fig-1.2-333.toml");
-        let scene = scene("fig-1.2-333.toml", text.as_bytes()).unwrap();
+        let (scene, missing) = scene("fig-1.2-333.toml", text.as_bytes()).unwrap();
+        assert!(missing.is_empty());
         assert_eq!(scene.orbifold.signature, "*333");
         let error = scene_error("room.toml", b"[orbifold]\nsignature = 3\n");
         // The file, line and column of the wrong value.
@@ -104,16 +262,63 @@ mod tests {
     fn the_saved_scene_reads_back() {
         let mut original = Scene::default();
         original.room.height = 1.75;
-        let again = scene("room.toml", original.to_toml().as_bytes()).unwrap();
+        let (again, _) = scene("room.toml", original.to_toml().as_bytes()).unwrap();
         assert_eq!(again, original);
     }
 
     #[test]
-    fn meshes_and_textures_are_refused_with_a_reason() {
-        assert_eq!(refusal("a.toml"), None);
-        assert!(refusal("bunny.PLY").unwrap().contains("meshes or textures"));
-        assert!(refusal("wood.jpg").unwrap().contains("meshes or textures"));
-        assert!(refusal("README").unwrap().contains("not a scene"));
+    fn scenes_meshes_images_and_buffers_are_taken_and_other_files_refused() {
+        for name in [
+            "a.toml",
+            "bunny.PLY",
+            "b.obj",
+            "c.gltf",
+            "d.glb",
+            "wood.jpg",
+            "e.png",
+            "f.bin",
+        ] {
+            assert_eq!(refusal(name), None, "{name}");
+        }
+        for name in ["README", "sky.exr", "notes.txt"] {
+            let reason = refusal(name).unwrap();
+            assert!(reason.contains(name) && reason.contains(".obj"), "{reason}");
+        }
+    }
+
+    #[test]
+    fn a_scene_that_names_files_not_given_opens_and_lists_them() {
+        orbifold_scene::files::provide("web-unit/given.obj", b"v 0 0 0".to_vec());
+        let mut original = Scene::default();
+        original.objects[0].mesh = Some("given.obj".into());
+        original.room.floor = orbifold_scene::Material::Texture {
+            path: "gone.png".into(),
+            scale: 0.5,
+            coordinates: Default::default(),
+        };
+        let text = original.to_toml();
+        let (again, missing) = scene("web-unit/room.toml", text.as_bytes()).unwrap();
+        assert_eq!(again, original);
+        assert_eq!(missing, [PathBuf::from("web-unit/gone.png")]);
+        let needed = needed(&again, Some(Path::new("web-unit")));
+        assert!(needed.contains(&PathBuf::from("web-unit/given.obj")));
+        assert!(!needed.contains(&PathBuf::from("web-unit/gone.png")));
+        orbifold_scene::files::forget(Path::new("web-unit/given.obj"));
+    }
+
+    #[test]
+    fn base64_round_trips_every_length_and_refuses_other_text() {
+        let bytes: Vec<u8> = (0..=255).rev().collect();
+        for n in 0..40 {
+            let text = base64(&bytes[..n]);
+            assert_eq!(text.len() % 4, 0);
+            assert_eq!(from_base64(&text).unwrap(), &bytes[..n], "{n} bytes");
+        }
+        assert_eq!(base64(b"Ma"), "TWE=");
+        assert_eq!(base64(b"M"), "TQ==");
+        assert_eq!(from_base64("TQ").unwrap(), b"M");
+        assert_eq!(from_base64("T"), None);
+        assert_eq!(from_base64("TW-="), None);
     }
 
     #[test]

@@ -49,11 +49,18 @@ impl ImageTexture {
         }
     }
 
-    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB.
+    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB. The file's bytes come through
+    /// [`orbifold_scene::files::read`] (given bytes before the disk); its format is its
+    /// extension's, as `image::open` takes it.
     pub(super) fn read(file: &Path) -> Result<ImageTexture, String> {
-        let image = image::open(file)
-            .map_err(|e| format!("cannot read texture {}: {e}", file.display()))?
-            .to_rgb8();
+        let cannot =
+            |e: &dyn std::fmt::Display| format!("cannot read texture {}: {e}", file.display());
+        let bytes = orbifold_scene::files::read(file).map_err(|e| cannot(&e))?;
+        let mut reader = image::ImageReader::new(std::io::Cursor::new(&*bytes));
+        if let Ok(format) = image::ImageFormat::from_path(file) {
+            reader.set_format(format);
+        }
+        let image = reader.decode().map_err(|e| cannot(&e))?.to_rgb8();
         let (width, height) = (image.width() as usize, image.height() as usize);
         let pixels = image
             .pixels()
@@ -184,6 +191,56 @@ mod tests {
                 prop_assert!((mean[k] - sum[k]).abs() < 0.02, "{:?} vs {:?}", mean, sum);
             }
         }
+    }
+
+    /// A PNG of one row: red, then blue.
+    fn red_blue_png() -> Vec<u8> {
+        let image = image::RgbImage::from_fn(2, 1, |x, _| {
+            image::Rgb(if x == 0 { [255, 0, 0] } else { [0, 0, 255] })
+        });
+        let mut bytes = Vec::new();
+        image
+            .write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .unwrap();
+        bytes
+    }
+
+    #[test]
+    fn a_texture_given_by_bytes_is_read_as_a_file_would_be() {
+        orbifold_scene::files::provide("render-unit/given.png", red_blue_png());
+        let t = ImageTexture::read(Path::new("render-unit/given.png")).unwrap();
+        assert_eq!((t.width, t.height), (2, 1));
+        assert_eq!(t.texel(0.25, 0.5), [1.0, 0.0, 0.0]);
+        assert_eq!(t.texel(0.75, 0.5), [0.0, 0.0, 1.0]);
+        // A scene that names it, with the folder it is given in: the renderer takes it.
+        let mut scene = orbifold_scene::Scene::default();
+        scene.room.floor = orbifold_scene::Material::Texture {
+            path: "given.png".into(),
+            scale: 0.5,
+            coordinates: Default::default(),
+        };
+        let settings = crate::integrator::Settings::default();
+        let base = Some(Path::new("render-unit"));
+        assert!(crate::integrator::Integrator::from_scene(&scene, base, settings).is_ok());
+        // Not given, and not on the disk: the error names the file, as it always did.
+        let error = ImageTexture::read(Path::new("render-unit/missing.png")).unwrap_err();
+        assert!(
+            error.starts_with("cannot read texture render-unit/missing.png: "),
+            "{error}"
+        );
+        scene.room.floor = orbifold_scene::Material::Texture {
+            path: "missing.png".into(),
+            scale: 0.5,
+            coordinates: Default::default(),
+        };
+        let error = match crate::integrator::Integrator::from_scene(&scene, base, settings) {
+            Ok(_) => panic!("the texture is missing, but the scene was taken"),
+            Err(error) => error,
+        };
+        assert!(error.contains("render-unit/missing.png"), "{error}");
     }
 
     #[test]

@@ -261,13 +261,13 @@ impl Images {
                     let own = file
                         .file_name()
                         .map_or_else(|| "texture".into(), |n| n.to_string_lossy().into_owned());
-                    let bytes = std::fs::read(file).map_err(|e| {
+                    let bytes = crate::files::read(file).map_err(|e| {
                         std::io::Error::new(
                             e.kind(),
                             format!("cannot read the texture {}: {e}", file.display()),
                         )
                     })?;
-                    (identifier(&format!("{stem}-{own}")), bytes)
+                    (identifier(&format!("{stem}-{own}")), bytes.into_vec())
                 }
                 TextureImage::Checker(_) => {
                     let bytes = image

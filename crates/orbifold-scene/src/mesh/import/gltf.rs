@@ -204,7 +204,7 @@ impl Buffers<'_> {
                     ));
                 };
                 let path = base.join(percent_decode(uri));
-                let data = std::fs::read(&path).map_err(|e| {
+                let data = crate::files::read(&path).map_err(|e| {
                     error(
                         MeshErrorKind::Io,
                         here(),
@@ -212,7 +212,7 @@ impl Buffers<'_> {
                     )
                 })?;
                 self.input += data.len();
-                data
+                data.into_vec()
             };
             self.loaded[i] = Some(data);
         }

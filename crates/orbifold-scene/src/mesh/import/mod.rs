@@ -174,7 +174,19 @@ pub fn parse_mesh(
     check(mesh, format)
 }
 
-/// Reads a mesh file, its format given by its extension (see [`MeshFormat::from_path`]).
+/// Reads a mesh file, its format given by its extension (see [`MeshFormat::from_path`]),
+/// through [`crate::files::read`]: bytes given to the store under `path` come before the disk
+/// (and so do a glTF file's external buffers beside it).
+///
+/// ```
+/// use std::path::Path;
+/// use orbifold_scene::{files, mesh::import::load_mesh};
+/// let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+/// files::provide("load-mesh-example/triangle.obj", obj.to_vec());
+/// let mesh = load_mesh(Path::new("load-mesh-example/triangle.obj")).unwrap();
+/// assert_eq!(mesh.triangles.len(), 1);
+/// files::forget(Path::new("load-mesh-example/triangle.obj"));
+/// ```
 pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
     let format = MeshFormat::from_path(path).ok_or_else(|| {
         MeshError::new(
@@ -184,7 +196,7 @@ pub fn load_mesh(path: &Path) -> Result<TriangleMesh, MeshError> {
         )
         .in_file(path)
     })?;
-    let bytes = std::fs::read(path).map_err(|e| {
+    let bytes = crate::files::read(path).map_err(|e| {
         MeshError::new(
             MeshErrorKind::Io,
             None,
