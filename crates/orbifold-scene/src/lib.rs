@@ -13,6 +13,7 @@
 //! ```
 
 pub mod animation;
+pub mod base64;
 pub mod color;
 pub mod document;
 pub mod export;

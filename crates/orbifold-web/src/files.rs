@@ -169,31 +169,13 @@ pub fn needed(scene: &Scene, base: Option<&Path>) -> Vec<PathBuf> {
     needed
 }
 
-const BASE64: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
 /// `bytes` in standard base64, padded: how a file is kept in `localStorage`, which holds text.
 ///
 /// ```
 /// assert_eq!(orbifold_web::files::base64(b"orbifold"), "b3JiaWZvbGQ=");
 /// ```
 pub fn base64(bytes: &[u8]) -> String {
-    let mut text = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for i in 0..4 {
-            if i <= chunk.len() {
-                text.push(BASE64[((n >> (18 - 6 * i)) & 63) as usize] as char);
-            } else {
-                text.push('=');
-            }
-        }
-    }
-    text
+    orbifold_scene::base64::encode(bytes)
 }
 
 /// The bytes of standard base64 `text` (padding optional), or `None` when it is not base64.
@@ -205,23 +187,11 @@ pub fn base64(bytes: &[u8]) -> String {
 /// assert_eq!(from_base64("not base64!"), None);
 /// ```
 pub fn from_base64(text: &str) -> Option<Vec<u8>> {
-    let text = text.trim_end_matches('=').as_bytes();
-    if text.len() % 4 == 1 {
+    // A single character left over is no whole byte: text that was not written as base64.
+    if text.trim_end_matches('=').len() % 4 == 1 {
         return None;
     }
-    let mut bytes = Vec::with_capacity(text.len() / 4 * 3 + 2);
-    let (mut acc, mut bits) = (0u32, 0);
-    for &c in text {
-        let value = BASE64.iter().position(|&b| b == c)? as u32;
-        acc = (acc << 6) | value;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            bytes.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Some(bytes)
+    orbifold_scene::base64::decode(text.trim_end_matches('=').as_bytes())
 }
 
 /// A rendered picture (RGBA8, as the render job shows it) as PNG bytes, for a download.

@@ -175,7 +175,7 @@ impl Buffers<'_> {
                         "only base64 data URIs are supported",
                     ));
                 }
-                base64(payload.as_bytes()).ok_or_else(|| {
+                crate::base64::decode(payload.as_bytes()).ok_or_else(|| {
                     error(
                         MeshErrorKind::Syntax,
                         here(),
@@ -218,34 +218,6 @@ impl Buffers<'_> {
         }
         Ok(self.loaded[i].as_deref().unwrap_or_default())
     }
-}
-
-/// Standard base64 (padding optional); `None` on any other character.
-fn base64(text: &[u8]) -> Option<Vec<u8>> {
-    let text = text
-        .strip_suffix(b"==")
-        .or_else(|| text.strip_suffix(b"="))
-        .unwrap_or(text);
-    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
-    let (mut acc, mut bits) = (0u32, 0);
-    for &c in text {
-        let v = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        };
-        acc = (acc << 6) | v as u32;
-        bits += 6;
-        if bits >= 8 {
-            bits -= 8;
-            out.push((acc >> bits) as u8);
-            acc &= (1 << bits) - 1;
-        }
-    }
-    Some(out)
 }
 
 /// A relative URI reference as a path: `%XX` escapes decoded.
