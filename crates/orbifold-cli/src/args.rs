@@ -97,8 +97,8 @@ pressure (the direct sound at one metre is 1/(4π)), the surfaces met in order (
 
 #[derive(Debug, Args)]
 pub struct ListenArgs {
-    /// A scene file (`.toml`) or a kaleidoscopic signature (its default room; rooms with portals
-    /// are not heard yet); the built-in default scene without one.
+    /// A scene file (`.toml`) or an orbifold symbol (its default room: mirrors, and portals that
+    /// pass the sound on); the built-in default scene without one.
     #[arg(value_name = "SCENE|SIG")]
     pub input: Option<String>,
     /// The WAV file to write.

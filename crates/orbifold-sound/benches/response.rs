@@ -1,5 +1,6 @@
 //! A 2-second response at 48 kHz (the default `[sound]` settings: 4 m a unit, −60 dB limit) in
-//! a Euclidean, a hyperbolic and a spherical room: the echoes and their signal.
+//! a Euclidean, a hyperbolic and a spherical room of mirrors, and in two rooms with portals (the
+//! cone points of `632` and `2223`): the echoes and their signal.
 //! `cargo bench -p orbifold-sound --bench response`.
 
 #![allow(missing_docs)] // criterion_group! generates undocumented functions.
@@ -26,7 +27,7 @@ fn hearing(signature: &str) -> Hearing {
 fn responses(c: &mut Criterion) {
     let mut group = c.benchmark_group("response_2s_48kHz");
     group.sample_size(10);
-    for signature in ["*444", "*2222", "*235"] {
+    for signature in ["*444", "*2222", "*235", "632", "2223"] {
         let hearing = hearing(signature);
         group.bench_function(signature, |b| {
             b.iter(|| {

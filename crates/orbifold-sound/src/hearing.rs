@@ -53,15 +53,19 @@ impl Hearing {
             return Err(SoundError::Scene(all.join("; ")));
         }
         let layout = scene.layout().map_err(SoundError::Scene)?;
-        if !layout.is_kaleidoscopic() {
-            // The image sources are those of the reflection group; a room with portals would
-            // need the images under its pairings too, which the echoes do not follow yet.
+        let room = AnalyticRoom::from_scene(scene, &layout).map_err(SoundError::Scene)?;
+        // A mirror hung on a portal would send sound back where the group's images send it on.
+        if let Some(wall) = room
+            .walls
+            .iter()
+            .position(|w| w.portal.is_some() && !w.mirrors.is_empty())
+        {
             return Err(SoundError::Scene(format!(
-                "{} has portals (walls paired by its group); only rooms of mirrors *k₁…k_N are heard so far",
+                "wall {wall} of {} is a portal with a mirror hung on it; sound is heard through \
+                 bare portals only (take the mirror off, or hang it on a mirror wall)",
                 layout.symbol
             )));
         }
-        let room = AnalyticRoom::from_scene(scene, &layout).map_err(SoundError::Scene)?;
         let space = room.space;
         let (source, listener) = places(scene).map_err(SoundError::Scene)?;
         let [_, right, _] = scene.camera.basis();

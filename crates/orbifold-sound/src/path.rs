@@ -2,6 +2,10 @@
 //! image g·s of the source, followed through the real room, where it reflects off the walls of
 //! its word in order.
 //!
+//! A wall paired with another by the orbifold's group is not a surface but a portal: the room
+//! goes on beyond it, so the path passes it whole and goes on from the partner wall, moved by
+//! the pairing (as the tracer's rays do, `Ray::passed`), and it is no reflection.
+//!
 //! An echo's geodesic in S²×R, E²×R or H²×R runs a geodesic of the plane at constant speed
 //! while its height changes linearly (ARCHITECTURE.md §8), so the walls it meets, and where
 //! along them, depend only on its horizontal part; the height only decides, at a wall with
@@ -25,8 +29,8 @@ use crate::settings::Reflection;
 /// How far (intrinsic) the end of a followed path may be from the source and still count.
 pub const ARRIVAL_TOLERANCE: f64 = 1e-6;
 
-/// The most wall reflections followed on one path (rays that run into an ideal corner bounce
-/// ever faster).
+/// The most wall reflections and portal crossings followed on one path (rays that run into an
+/// ideal corner bounce ever faster).
 pub const MAX_WALL_REFLECTIONS: usize = 4096;
 
 /// Where a path meets a wall.
@@ -54,8 +58,10 @@ enum Cover {
 pub struct HorizontalPath {
     /// Its horizontal length σ, intrinsic.
     pub sigma: f64,
-    /// The walls it reflects off, in order.
+    /// The walls it reflects off, in order (the portals it passes are not among them).
     pub crossings: Vec<WallCrossing>,
+    /// How many portals it passes.
+    pub portals: u32,
     /// The product of the reflection coefficients of the crossings whose wall is a mirror
     /// everywhere or nowhere along that point (independent of height), per band.
     pub fixed: Bands,
@@ -139,6 +145,7 @@ impl HorizontalPath {
         let mut ray = Ray::new(space, listener, direction, 0.0, 0.0);
         let mut travelled = 0.0;
         let mut crossings = Vec::new();
+        let mut portals = 0u32;
         let mut fixed = [1.0; crate::absorption::BANDS];
         let mut partial = Vec::new();
         let mut partial_best: f64 = 0.0;
@@ -151,6 +158,7 @@ impl HorizontalPath {
                     HorizontalPath {
                         sigma,
                         crossings,
+                        portals,
                         fixed,
                         partial,
                         partial_best,
@@ -162,10 +170,19 @@ impl HorizontalPath {
                 // A horizontal ray meets no floor or ceiling.
                 return None;
             };
-            if crossings.len() >= MAX_WALL_REFLECTIONS {
+            if crossings.len() + portals as usize >= MAX_WALL_REFLECTIONS {
                 return None;
             }
             travelled += hit.s;
+            let continued = ray.continued(space, hit.s, hit.point, hit.tangent);
+            if let Some(portal) = room.walls[wall]
+                .portal
+                .filter(|_| room.walls[wall].mirrors.is_empty())
+            {
+                portals += 1;
+                ray = continued.transformed(&portal.back, 0.0).renormalized(space);
+                continue;
+            }
             let along = room.along(wall, hit.point).clamp(0.0, 1.0);
             match cover(room, wall, along) {
                 Cover::Full => fixed = times(&fixed, &reflection.mirror),
@@ -186,9 +203,7 @@ impl HorizontalPath {
                 sigma: travelled,
                 along,
             });
-            ray = ray
-                .continued(space, hit.s, hit.point, hit.tangent)
-                .reflected(space, room.walls[wall].form);
+            ray = continued.reflected(space, room.walls[wall].form);
         }
     }
 
@@ -196,6 +211,7 @@ impl HorizontalPath {
         HorizontalPath {
             sigma: 0.0,
             crossings: Vec::new(),
+            portals: 0,
             fixed: [1.0; crate::absorption::BANDS],
             partial: Vec::new(),
             partial_best: 0.0,

@@ -146,8 +146,12 @@ impl Listening<'_> {
         let settings = self.settings;
         let image = tile.matrix * source.at;
         let d = space.ambient_distance(listener.at, image);
-        let wall_best =
-            largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall));
+        // A portal passes sound on whole: in a room with portals a word's length bounds nothing.
+        let wall_best = if self.room.walls.iter().any(|w| w.portal.is_some()) {
+            1.0
+        } else {
+            largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall))
+        };
         let mut paths = Vec::new();
         let mut arrivals = Vec::new();
         let mut lost = 0;
@@ -164,7 +168,7 @@ impl Listening<'_> {
             if quiet[turn as usize % 2] {
                 continue;
             }
-            // No path into this tile meets fewer walls than its word length.
+            // No path into this tile crosses fewer walls than its word length.
             let bound = wall_best.powi(tile.depth.min(i32::MAX as u32) as i32)
                 * self.spreading_bound(space, sigma, sigma);
             if bound < settings.min_amplitude {

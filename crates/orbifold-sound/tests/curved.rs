@@ -13,24 +13,47 @@ use orbifold_sound::{Bounce, Hearing};
 use orbifold_trace::geodesic::Ray;
 use orbifold_trace::room::{AnalyticRoom, RoomSurface};
 
-/// The surfaces a geodesic meets in the room over arc length `length`, reflecting at every one,
-/// and where it ends (ambient, height).
-fn trace(room: &AnalyticRoom, mut ray: Ray, length: f64) -> (Vec<RoomSurface>, glam::DVec3, f64) {
+/// What a geodesic meets in the room over arc length `length`, reflecting at every surface and
+/// passing every portal (moved by its pairing onto the partner wall).
+struct Traced {
+    /// The surfaces it reflects off, in order (no portals).
+    met: Vec<RoomSurface>,
+    /// Where it ends (ambient, height).
+    end: (glam::DVec3, f64),
+    /// The group element g whose tile g(P) of the universal cover the unfolded path ends in:
+    /// the product of the walls' `neighbour`s in the order crossed.
+    tile: DMat3,
+}
+
+fn trace(room: &AnalyticRoom, mut ray: Ray, length: f64) -> Traced {
     let space = room.space;
     let mut left = length;
     let mut met = Vec::new();
+    let mut tile = DMat3::IDENTITY;
     loop {
         let hit = room.exit(&ray).filter(|h| h.s < left);
         let Some(hit) = hit else {
-            let (end, h) = ray.point_at(space, left);
-            return (met, end, h);
+            let end = ray.point_at(space, left);
+            return Traced { met, end, tile };
         };
         left -= hit.s;
-        met.push(hit.surface);
         ray = ray.continued(space, hit.s, hit.point, hit.tangent);
         match hit.surface {
-            RoomSurface::Wall(w) => ray = ray.reflected(space, room.walls[w].form),
-            RoomSurface::Floor | RoomSurface::Ceiling => ray.sin_elevation = -ray.sin_elevation,
+            RoomSurface::Wall(w) => match room.walls[w].portal {
+                Some(portal) => {
+                    tile *= portal.across;
+                    ray = ray.transformed(&portal.back, 0.0).renormalized(space);
+                }
+                None => {
+                    met.push(hit.surface);
+                    tile *= reflection(space, room.walls[w].form);
+                    ray = ray.reflected(space, room.walls[w].form);
+                }
+            },
+            RoomSurface::Floor | RoomSurface::Ceiling => {
+                met.push(hit.surface);
+                ray.sin_elevation = -ray.sin_elevation;
+            }
         }
         assert!(met.len() < 10_000);
     }
@@ -83,21 +106,23 @@ fn check_scene(scene: &orbifold_scene::Scene, max_checked: usize) {
             path.sigma,
             if up { rise } else { -rise },
         );
-        let (met, end, h) = trace(room, ray, length);
+        let traced = trace(room, ray, length);
+        let (end, h) = traced.end;
         let named: Vec<RoomSurface> = bounces.iter().map(|b| b.surface).collect();
-        assert_eq!(met, named, "{signature}: echo at {} s", a.time);
+        assert_eq!(traced.met, named, "{signature}: echo at {} s", a.time);
         assert!(
             space.ambient_distance(end, source.at) < 1e-6 && (h - source.height).abs() < 1e-6,
             "{signature}: the echo at {} s ends {} from the source",
             a.time,
             space.ambient_distance(end, source.at)
         );
-        // The image of the source by the named reflections, first met outermost.
-        let mut g = DMat3::IDENTITY;
+        // The image of the source in the tile the unfolded path ends in (through mirrors and
+        // portals alike), and by the floor and ceiling, first met outermost.
+        let g = traced.tile;
         let mut z = source.height;
         for b in bounces.iter().rev() {
             match b.surface {
-                RoomSurface::Wall(w) => g = reflection(space, room.walls[w].form) * g,
+                RoomSurface::Wall(_) => {}
                 RoomSurface::Floor => z = -z,
                 RoomSurface::Ceiling => z = 2.0 * room.height - z,
             }
@@ -150,6 +175,19 @@ fn echoes_in_a_spherical_room_are_traced_geodesics() {
 fn echoes_in_hyperbolic_rooms_are_traced_geodesics() {
     check("*444", 0.15, 400);
     check("*2333", 0.15, 400);
+}
+
+#[test]
+fn echoes_through_portals_are_traced_geodesics() {
+    // Cone points (rotations), a glide next to mirrors and a cross-cap, on the sphere, in the
+    // plane and in H²: each echo passes the portals it meets, moved by their pairings.
+    check("532", 0.3, 300);
+    check("3*2", 0.3, 300);
+    check("632", 0.2, 300);
+    check("22×", 0.2, 300);
+    check("o", 0.2, 300);
+    check("2223", 0.12, 300);
+    check("4*3", 0.12, 300);
 }
 
 proptest::proptest! {

@@ -68,3 +68,13 @@ fn a_lossless_spherical_room_keeps_its_energy_per_unit_time_on_average() {
     // averages out to the same rate (the focus, as wide as the listener, adds a little).
     energy_per_window("*235", 0.5, &[(0.1, 0.5)], 0.06);
 }
+
+#[test]
+fn lossless_rooms_with_portals_keep_their_energy_per_unit_time() {
+    // Portals pass sound on whole: the images are the group's, a shell of the cover still holds
+    // (shell area)·cΔt/V of them, whatever the rotations, glides and handles. (On the sphere
+    // the average depends on where the listener sits against the foci, for mirror rooms too.)
+    energy_per_window("o", 0.3, &[(0.1, 0.2), (0.2, 0.3)], 0.02);
+    energy_per_window("22×", 0.3, &[(0.1, 0.2), (0.2, 0.3)], 0.02);
+    energy_per_window("2223", 0.06, &[(0.03, 0.045), (0.045, 0.06)], 0.04);
+}

@@ -115,6 +115,39 @@ fn bad_scenes_are_refused_with_the_key() {
     assert_eq!(errors[1].key.as_deref(), Some("sound.floor_absorption"));
 }
 
+#[test]
+fn rooms_with_portals_are_heard_and_mirrors_hung_on_portals_refused_by_wall() {
+    // A glide next to a mirror: the echoes pass the portals and reflect off the mirrors.
+    let scene = common::scene("*×", 0.1);
+    let hearing = Hearing::from_scene(&scene, None).unwrap();
+    let response = hearing.mono(&|_, _| {});
+    assert!(response.paths.iter().any(|p| p.portals > 0));
+    assert!(
+        response
+            .paths
+            .iter()
+            .any(|p| p.portals > 0 && !p.crossings.is_empty())
+    );
+    assert_eq!(response.lost, 0);
+    let mut scene = common::scene("632", 0.1);
+    scene.walls.push(orbifold_scene::Wall {
+        index: 1,
+        material: None,
+        mirrors: vec![orbifold_scene::Mirror {
+            from: 0.2,
+            to: 0.6,
+            bottom: 0.0,
+            top: None,
+            reflectance: [0.9; 3],
+        }],
+    });
+    let error = Hearing::from_scene(&scene, None).unwrap_err().to_string();
+    assert!(
+        error.contains("wall 1") && error.contains("portal"),
+        "{error}"
+    );
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
     #[test]

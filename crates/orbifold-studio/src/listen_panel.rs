@@ -162,7 +162,7 @@ impl ListenPanel {
                 } else {
                     ui.label(&self.message);
                 }
-                ui.label("A clap half a metre in front of the 3D view's camera, heard at its two ears through every echo off the walls, mirrors, floor and ceiling along the true geodesics ([sound] in the scene sets the units and absorption).");
+                ui.label("A clap half a metre in front of the 3D view's camera, heard at its two ears through every echo off the walls, mirrors, floor and ceiling and through the portals, along the true geodesics ([sound] in the scene sets the units and absorption).");
             });
             if let Some(texture) = &self.echogram {
                 let size = texture.size_vec2();
