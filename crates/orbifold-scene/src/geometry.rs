@@ -87,10 +87,30 @@ impl Scene {
     /// The mirrors of wall `index`, as the file gives them or from the room's default. The
     /// default (`[room] mirrors = "all"`) covers the walls that are mirrors of the orbifold; a
     /// portal (a wall paired with another) has only the mirrors its `[[walls]]` entry gives.
+    ///
+    /// For a symbol with portals this builds the layout to tell; a caller that has it, or knows
+    /// whether the wall is a portal, calls [`Scene::mirrors_of_wall`].
     pub fn wall_mirrors(&self, index: usize) -> Vec<Mirror> {
+        let explicit = self.walls.iter().any(|w| w.index == index);
+        self.mirrors_of_wall(index, !explicit && self.is_portal(index))
+    }
+
+    /// The mirrors of wall `index` as [`Scene::wall_mirrors`] gives them, told whether the wall
+    /// is a portal (its layout edge has a partner).
+    ///
+    /// ```
+    /// use orbifold_scene::Scene;
+    /// let mut scene = Scene::default();
+    /// scene.orbifold.signature = "632".into();
+    /// let layout = scene.layout().unwrap();
+    /// for (i, edge) in layout.edges.iter().enumerate() {
+    ///     assert_eq!(scene.mirrors_of_wall(i, edge.partner().is_some()), scene.wall_mirrors(i));
+    /// }
+    /// ```
+    pub fn mirrors_of_wall(&self, index: usize, portal: bool) -> Vec<Mirror> {
         match self.walls.iter().find(|w| w.index == index) {
             Some(wall) => wall.mirrors.clone(),
-            None if self.is_portal(index) => Vec::new(),
+            None if portal => Vec::new(),
             None => match self.room.mirrors {
                 MirrorDefault::All => vec![Mirror {
                     reflectance: self.room.reflectance,
@@ -224,7 +244,7 @@ impl Scene {
     /// along its ends, floor and ceiling; the rest is open, and no part.
     fn wall_parts(&self, mesher: &RoomMesher, wall: usize, portal: bool) -> Vec<Part> {
         let height = self.room.height;
-        let mirrors = self.wall_mirrors(wall);
+        let mirrors = self.mirrors_of_wall(wall, portal);
         // The portal's opening, as fractions of the wall's length and heights.
         let frame = self.room.portal_frame;
         let length = mesher.wall_length(wall).unwrap_or(0.0);

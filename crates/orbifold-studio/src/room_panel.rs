@@ -378,7 +378,7 @@ fn material(ui: &mut Ui, name: &str, material: &mut Material, target: Target, gl
 /// Wall `w`: its mirrors, each with extent and reflectance; for a portal (`partner`: the wall
 /// it leads to), what it is, and the mirrors hung on it.
 fn wall(ui: &mut Ui, scene: &mut Scene, w: usize, partner: Option<usize>) {
-    let mut mirrors = scene.wall_mirrors(w);
+    let mut mirrors = scene.mirrors_of_wall(w, partner.is_some());
     let before = mirrors.clone();
     ui.horizontal(|ui| {
         let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());

@@ -311,7 +311,7 @@ impl AnalyticRoom {
         let mirrors: Vec<Vec<MirrorRect>> = (0..layout.edges.len())
             .map(|i| {
                 scene
-                    .wall_mirrors(i)
+                    .mirrors_of_wall(i, layout.edges[i].partner().is_some())
                     .iter()
                     .map(|m| MirrorRect {
                         from: m.from,

@@ -118,8 +118,8 @@ impl Preview {
         }
         state.styles.truncate(state.objects);
         state.styles.extend(styles);
-        state.reflectances = (0..layout.edges.len())
-            .map(|w| wall_reflectance(scene, w))
+        state.reflectances = (layout.edges.iter().enumerate())
+            .map(|(w, edge)| wall_reflectance(scene, w, edge.partner().is_some()))
             .collect();
         let centre = layout.space().to_ambient(layout.centre);
         state.room_radius = room
@@ -185,11 +185,11 @@ impl Preview {
 
 /// What a wall's mirrors reflect, weighted by their areas (1 for a wall without a mirror): the
 /// the reflectance [`copies`] tints a copy by for each reflection in that wall.
-fn wall_reflectance(scene: &Scene, wall: usize) -> [f64; 3] {
+fn wall_reflectance(scene: &Scene, wall: usize, portal: bool) -> [f64; 3] {
     let height = scene.room.height;
     let mut total = [0.0; 3];
     let mut area = 0.0;
-    for m in scene.wall_mirrors(wall) {
+    for m in scene.mirrors_of_wall(wall, portal) {
         let a = (m.to - m.from) * (m.top.unwrap_or(height).min(height) - m.bottom);
         if a > 0.0 {
             area += a;

@@ -49,7 +49,9 @@
 //! nor longer than 30: the trace of a long product comes out of cancellations between entries of
 //! size e^ℓ; the sign of det W is taken from the letters for the same reason.
 
+use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::sync::{Mutex, OnceLock};
 
 use glam::{DMat3, DVec3};
 
@@ -114,11 +116,7 @@ pub(crate) fn deformed(
 ) -> Result<Draft, LayoutError> {
     let problem = Problem::new(symbol, space, &star)?;
     let x0 = problem.pack(&star.points);
-    let words = if problem.degenerate(&star.points) {
-        Vec::new()
-    } else {
-        choose_words(&problem, &x0, symbol.free_parameters())
-    };
+    let words = words_of(symbol, &problem, &x0, &star.points);
     let defaults = vec![1.0; words.len()];
     let ranges = vec![FACTOR_RANGE; words.len()];
     let factors = super::textbook::take_parameters(given, &defaults, &ranges)?;
@@ -141,6 +139,40 @@ pub(crate) fn deformed(
     draft.walls = None;
     draft.neighbours = None;
     Ok(draft)
+}
+
+/// At most this many symbols' words are remembered by [`words_of`].
+const REMEMBERED: usize = 256;
+
+/// The words whose lengths are `symbol`'s parameters ([`choose_words`]; none for a degenerate
+/// star). They depend on the symbol alone, through its default star, and choosing them is most
+/// of the cost of a default polygon, which a studio builds several times a frame: they are
+/// chosen once per symbol and remembered.
+fn words_of(
+    symbol: &OrbifoldSymbol,
+    problem: &Problem,
+    x0: &[f64],
+    star: &[DVec3],
+) -> Vec<Vec<Letter>> {
+    type Remembered = Mutex<HashMap<String, Vec<Vec<Letter>>>>;
+    static WORDS: OnceLock<Remembered> = OnceLock::new();
+    let key = symbol.to_string();
+    let remembered = WORDS.get_or_init(Default::default);
+    if let Some(words) = remembered.lock().ok().and_then(|m| m.get(&key).cloned()) {
+        return words;
+    }
+    let words = if problem.degenerate(star) {
+        Vec::new()
+    } else {
+        choose_words(problem, x0, symbol.free_parameters())
+    };
+    if let Ok(mut m) = remembered.lock() {
+        if m.len() >= REMEMBERED {
+            m.clear();
+        }
+        m.insert(key, words.clone());
+    }
+    words
 }
 
 impl Problem {
