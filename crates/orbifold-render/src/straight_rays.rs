@@ -8,7 +8,9 @@
 //! walls (circles, or lines through the origin) and mirrors reflect across their tangent lines,
 //! which is no isometry: mirror images bend and light through mirrors cannot be found from
 //! images, so light sampling only reaches lights directly (paths that meet a light after
-//! mirrors still count it). Objects and area lights are their curved meshes' model pictures.
+//! mirrors still count it). A portal sends a ray on from the partner wall by the model map of
+//! its pairing, to first order at the crossing (`AnalyticRoom::passage`): in E² the pairing
+//! itself. Objects and area lights are their curved meshes' model pictures.
 //! In a Euclidean room the picture is the room itself, and the two renders agree.
 
 use std::sync::Arc;

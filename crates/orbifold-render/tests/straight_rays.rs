@@ -80,8 +80,9 @@ fn image(scene: &Scene, straight_rays: bool) -> Film {
 #[test]
 fn in_a_euclidean_room_straight_rays_are_the_geodesics() {
     // The same estimator (paths that hit the light) on the same geometry: the same picture, up
-    // to rounding in where the walls are crossed.
-    for signature in ["*333", "*2222", "*236"] {
+    // to rounding in where the walls are crossed. Through portals too: the model map of a
+    // pairing of the Euclidean plane is the pairing itself (rotations, glides, translations).
+    for signature in ["*333", "*2222", "*236", "632", "22×", "o", "4*2"] {
         let mut scene = Scene::default();
         scene.orbifold.signature = signature.into();
         let layout = scene.layout().unwrap();
@@ -126,4 +127,71 @@ fn straight_rays_show_a_hyperbolic_room_differently() {
         .count();
     assert!(lit > 0 && differ > 0, "{lit} lit, {differ} differ");
     assert_eq!(b.dropped(), 0);
+}
+
+#[test]
+fn straight_rays_pass_the_portals_of_curved_rooms_by_their_model_maps() {
+    // A portal sends a straight ray on from the partner wall's model point: on the sphere and in
+    // H², through cone points and a glide, a ray that enters a portal comes out inside the room,
+    // heading in, and the pictures are lit and finite.
+    for signature in ["532", "2223", "4*3"] {
+        let layout =
+            Layout::of_symbol(&signature.parse().unwrap(), &LayoutOptions::default()).unwrap();
+        let room = AnalyticRoom::all_mirrors(&layout, 1.0, [0.9; 3])
+            .unwrap()
+            .flattened();
+        let flat = room.space;
+        let mut passed = 0;
+        for k in 0..64 {
+            let bearing = k as f64 * 0.1;
+            let mut ray = Ray::from_model(
+                flat,
+                layout.centre,
+                0.5,
+                bearing,
+                0.1 * (k % 5) as f64 - 0.2,
+            );
+            for _ in 0..6 {
+                let Some(hit) = room.exit(&ray) else { break };
+                let RoomSurface::Wall(w) = hit.surface else {
+                    break;
+                };
+                let Some(passage) = room.passage(w, hit.point, hit.height) else {
+                    break;
+                };
+                let next = ray
+                    .continued(flat, hit.s, hit.point, hit.tangent)
+                    .passed(flat, &passage);
+                if let Some(to) = passage.portal_to {
+                    passed += 1;
+                    assert!(
+                        room.contains(next.origin, next.height, 1e-7),
+                        "{signature}: out of the room"
+                    );
+                    let form = room.wall_form_at(to, next.origin);
+                    assert!(
+                        form.dot(next.origin).abs() < 1e-7,
+                        "{signature}: not on wall {to}"
+                    );
+                    assert!(
+                        form.dot(next.direction) > -1e-9,
+                        "{signature}: heading out of wall {to}"
+                    );
+                }
+                ray = next;
+            }
+        }
+        assert!(passed > 20, "{signature}: {passed} portals passed");
+        let mut scene = Scene::default();
+        scene.orbifold.signature = signature.into();
+        scene.lights[0].kind = LightKind::Sphere;
+        scene.lights[0].radius = 0.1;
+        let film = image(&scene, true);
+        let lit = (0..film.height())
+            .flat_map(|y| (0..film.width()).map(move |x| (x, y)))
+            .filter(|&(x, y)| film.pixel(x, y)[1] > 0.0)
+            .count();
+        assert!(lit > 0, "{signature}: nothing lit");
+        assert_eq!(film.dropped(), 0, "{signature}");
+    }
 }

@@ -366,15 +366,60 @@ impl AnalyticRoom {
         if self.in_portal_frame(wall, point, height) {
             return None;
         }
+        let (across, back) = match self.walls[wall].drawn_in {
+            None => (portal.across, portal.back),
+            Some(curved) => {
+                let back = self.drawn_map(curved, &portal.back, portal.reverses, point);
+                (back.inverse(), back)
+            }
+        };
         Some(Passage {
             mirror: None,
             portal_to: Some(portal.partner),
             throughput: portal.transmittance,
-            across: portal.across,
-            back: portal.back,
+            across,
+            back,
             reverses: portal.reverses,
             mirror_form: self.walls[wall].form,
         })
+    }
+
+    /// Straight-ray mode: the model picture of the curved plane's isometry `m` near the flat
+    /// ambient point `point`, as the flat similarity that agrees with it there to first order
+    /// (the value and the derivative of a Möbius map of the model, or of its conjugate when `m`
+    /// reverses orientation). A portal thus sends a straight ray on from the model point of the
+    /// partner wall, turned as the model map turns directions there, as a mirror reflects it
+    /// across the tangent of its model circle; in a Euclidean room the map is the isometry
+    /// itself.
+    fn drawn_map(&self, curved: Space, m: &DMat3, reverses: bool, point: DVec3) -> DMat3 {
+        let map = |z: Complex64| curved.to_model(*m * curved.to_ambient(z));
+        let z0 = self.space.to_model(point);
+        // ∂f/∂x by central differences: the derivative of a holomorphic f, and the a of an
+        // antiholomorphic f(z0 + u) ≈ f(z0) + a·ū alike (the error is O(h²) + O(ε/h), about
+        // 1e-10 relative).
+        let h = 1e-5 * (1.0 + z0.norm());
+        let a = (map(z0 + h) - map(z0 - h)) / (2.0 * h);
+        let linear = if reverses {
+            DMat3::from_cols(
+                DVec3::new(a.re, a.im, 0.0),
+                DVec3::new(a.im, -a.re, 0.0),
+                DVec3::Z,
+            )
+        } else {
+            DMat3::from_cols(
+                DVec3::new(a.re, a.im, 0.0),
+                DVec3::new(-a.im, a.re, 0.0),
+                DVec3::Z,
+            )
+        };
+        // Flat ambient points are (2x, 2y, 1) for the model point x + iy.
+        let image = self.space.to_ambient(map(z0));
+        let moved = linear * point;
+        DMat3::from_cols(
+            linear.x_axis,
+            linear.y_axis,
+            DVec3::new(image.x - moved.x, image.y - moved.y, 1.0),
+        )
     }
 
     /// Whether a point of a portal wall lies on its solid frame: within the frame's width of
@@ -566,8 +611,8 @@ impl AnalyticRoom {
                 .iter()
                 .map(|w| RoomWall {
                     drawn_in: Some(curved),
-                    // A pairing is an isometry of the curved plane, not of the flat picture.
-                    portal: None,
+                    // A portal's pairing is an isometry of the curved plane: in the flat
+                    // picture it acts by its model map (`AnalyticRoom::drawn_map`).
                     ..w.clone()
                 })
                 .collect(),
