@@ -3,11 +3,13 @@
 use clap::{Args, Parser, Subcommand};
 use orbifold::Geometry;
 
-/// Design and explore two-dimensional kaleidoscopic orbifolds: polygons whose walls are mirrors.
+/// Design and explore two-dimensional orbifolds: polygons whose walls are mirrors or portals.
 ///
-/// A signature such as `*2333` lists the corners of a polygon; a corner of order k has angle π/k.
-/// Its Euler characteristic χ = Σ 1/(2kᵢ) − N/2 + 1 says whether the polygon and its mirror
-/// images tile the sphere (χ > 0), the Euclidean plane (χ = 0) or the hyperbolic plane (χ < 0).
+/// A kaleidoscopic signature such as `*2333` lists the corners of a polygon whose walls are all
+/// mirrors; a corner of order k has angle π/k. Any other orbifold is written in Conway's notation
+/// (`632`, `22×`, `4*3`, `o`): its polygon pairs walls by rotations, glides and translations, and
+/// a paired wall is a portal. The Euler characteristic χ says whether the polygon's images tile
+/// the sphere (χ > 0), the Euclidean plane (χ = 0) or the hyperbolic plane (χ < 0).
 #[derive(Debug, Parser)]
 #[command(name = "orbifold", version, arg_required_else_help = true, after_help = EXAMPLES)]
 pub struct Cli {
@@ -418,7 +420,8 @@ local frame), id (0 floor, 1 ceiling, 2+i wall i, 1000+j object j, -1 none), bou
 
 #[derive(Debug, Args)]
 pub struct TraceArgs {
-    /// A kaleidoscopic signature (every wall a full mirror), or a scene file (`.toml`).
+    /// An orbifold symbol (`*2333`, `632`: every mirror wall a full mirror, every paired wall a
+    /// portal), or a scene file (`.toml`).
     #[arg(value_name = "SIG|SCENE")]
     pub input: String,
     /// Where the ray starts: model x, model y and height (default: the scene's camera).
@@ -512,7 +515,7 @@ pub enum TessellationArg {
 
 #[derive(Debug, Args)]
 pub struct RoomArgs {
-    /// A kaleidoscopic signature, or a scene file (`.toml`).
+    /// An orbifold symbol (`*2333`, `632`), or a scene file (`.toml`).
     #[arg(value_name = "SIG|SCENE")]
     pub input: String,
     /// The mesh file to write: `.obj` (with a `.mtl` and the textures' images beside it), `.ply`

@@ -1,5 +1,5 @@
 //! `orbifold listen` as a process: the impulse response as WAV, its echoes as JSON sorted by
-//! time, stereo, a clap or a dry sound played through the room, echograms, and clear errors
+//! time, a room of portals, a clap or a dry sound played through the room, echograms, and clear errors
 //! (exit code 2) with no file written.
 
 use assert_cmd::Command;
@@ -62,6 +62,29 @@ fn a_shoebox_s_echoes_are_written_and_listed_by_time() {
     assert_eq!(reader.spec().channels, 1);
     assert_eq!(reader.len(), 4800);
     assert_eq!(json["channels"], 1);
+}
+
+#[test]
+fn a_room_of_portals_echoes_off_its_floor_and_ceiling_only() {
+    // `632` has no mirror walls: its three cone points pair every wall with another, so sound
+    // passes them all, and the only surfaces it meets are the floor and the ceiling.
+    let dir = temp();
+    let wav = dir.path().join("p6.wav");
+    let json = listen_json(&["632", "-o", wav.to_str().unwrap(), "--seconds", "0.1"]);
+    let arrivals = json["arrivals"].as_array().unwrap();
+    assert!(arrivals.len() > 20);
+    assert_eq!(json["lost"], 0);
+    let surfaces: Vec<&str> = arrivals
+        .iter()
+        .flat_map(|a| a["surfaces"].as_array().unwrap())
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert!(surfaces.contains(&"floor") && surfaces.contains(&"ceiling"));
+    assert!(
+        surfaces.iter().all(|&s| s == "floor" || s == "ceiling"),
+        "{surfaces:?}"
+    );
+    assert!(wav.exists());
 }
 
 #[test]

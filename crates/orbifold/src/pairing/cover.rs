@@ -27,6 +27,7 @@
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::collections::hash_map::Entry;
 
 use super::{EdgeKind, FundamentalPolygon};
 use crate::conway::OrbifoldSymbol;
@@ -617,8 +618,10 @@ impl Grid {
 
     fn remove(&mut self, p: DVec3) {
         let key = self.locate(p).0;
-        if self.cells.get(&key) == Some(&p) {
-            self.cells.remove(&key);
+        if let Entry::Occupied(cell) = self.cells.entry(key)
+            && *cell.get() == p
+        {
+            cell.remove();
         }
     }
 
@@ -636,12 +639,19 @@ impl Grid {
     /// was new.
     fn insert_new(&mut self, p: DVec3, error: f64, separation: f64) -> bool {
         let (key, local) = self.locate(p);
-        if self.cells.contains_key(&key) || self.in_neighbour(p, key, local, error, separation) {
+        // The neighbours first: they are searched only near the cell's faces, and the cell
+        // itself is then probed once, to find it empty and fill it.
+        if self.in_neighbour(p, key, local, error, separation) {
             return false;
         }
-        self.error = self.error.max(error);
-        self.cells.insert(key, p);
-        true
+        match self.cells.entry(key) {
+            Entry::Occupied(_) => false,
+            Entry::Vacant(cell) => {
+                cell.insert(p);
+                self.error = self.error.max(error);
+                true
+            }
+        }
     }
 
     /// Whether a neighbouring cell of `key` that `p` may belong to, given the error bounds, holds
