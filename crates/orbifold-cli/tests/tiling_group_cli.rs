@@ -164,12 +164,25 @@ fn bad_symbols_are_refused_clearly() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains("does not show"));
-    orbifold()
-        .args(["tiling", "2223", "--model", "klein", "-o"])
-        .arg(tmp.path().join("t.svg"))
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("SVG tilings are drawn"));
+    // Every model of the plane draws as SVG, kaleidoscopic symbols too.
+    for (symbol, model) in [
+        ("2223", "klein"),
+        ("2223", "halfplane"),
+        ("532", "sphere"),
+        ("*237", "halfplane"),
+    ] {
+        let svg = tmp.path().join(format!("{model}.svg"));
+        orbifold()
+            .args(["tiling", symbol, "--model", model, "--depth", "4", "-o"])
+            .arg(&svg)
+            .assert()
+            .success();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(
+            text.contains("<path") && !text.contains("NaN"),
+            "{symbol} {model}"
+        );
+    }
     orbifold()
         .args(["tiling", "22×", "-o", "x.gif"])
         .assert()

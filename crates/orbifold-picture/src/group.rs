@@ -461,6 +461,7 @@ mod tests {
             let svg = crate::svg::group_tiling_svg(
                 polygon,
                 &cover.tiles,
+                crate::tiling::Model::default_for(polygon.geometry),
                 symbol,
                 300,
                 Complex64::new(0.0, 0.0),
@@ -478,6 +479,69 @@ mod tests {
             }
             let mirrors = polygon.edges.len() - paired;
             assert_eq!(svg.matches("#1f6fd1").count(), mirrors, "{symbol}");
+        }
+    }
+
+    #[test]
+    fn the_svg_draws_in_every_model_of_its_plane() {
+        use crate::tiling::{Model, project, unproject};
+        use orbifold::cover::Bound;
+        use orbifold::pairing::cover::GroupCover;
+        let models = [
+            Model::Poincare,
+            Model::Klein,
+            Model::HalfPlane,
+            Model::Stereographic,
+            Model::Sphere,
+            Model::Euclidean,
+        ];
+        for symbol in ["2223", "4*3", "532", "3*2", "22×"] {
+            let cover =
+                GroupCover::enumerate(&symbol.parse().unwrap(), Bound::Depth(3), true).unwrap();
+            let polygon = &cover.polygon;
+            let space = polygon.space();
+            for model in models.into_iter().filter(|m| m.shows(polygon.geometry)) {
+                // Projection undoes the pictures' unprojection, on a grid of screen points.
+                for i in -8..=8 {
+                    for j in -8..=8 {
+                        let s = Complex64::new(f64::from(i), f64::from(j)) * 0.11;
+                        let Some(p) = unproject(space, model, s) else {
+                            continue;
+                        };
+                        let back = project(space, model, p).expect("a point of the model");
+                        assert!((back - s).norm() < 1e-9, "{symbol} {model:?}: {s} → {back}");
+                    }
+                }
+                let svg = crate::svg::group_tiling_svg(
+                    polygon,
+                    &cover.tiles,
+                    model,
+                    symbol,
+                    300,
+                    Complex64::new(0.0, 0.0),
+                    1.0,
+                );
+                let paired = polygon
+                    .edges
+                    .iter()
+                    .filter(|e| matches!(e.kind, EdgeKind::Paired { .. }))
+                    .count();
+                assert_eq!(
+                    svg.matches("marker-end").count(),
+                    paired,
+                    "{symbol} {model:?}"
+                );
+                // Tiles filled both ways round (the tiles behind the sphere are left out).
+                let tiles = svg.matches("#e9c46a").count() + svg.matches("#264653").count();
+                assert!(
+                    tiles > 4 && tiles <= cover.tiles.len(),
+                    "{symbol} {model:?}: {tiles}"
+                );
+                assert!(
+                    !svg.contains("NaN") && !svg.contains("inf"),
+                    "{symbol} {model:?}"
+                );
+            }
         }
     }
 

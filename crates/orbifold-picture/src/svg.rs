@@ -9,6 +9,8 @@ use orbifold::Geometry;
 use orbifold::layout::{Layout, Vertex};
 use orbifold::space::{ModelGeodesic, Space};
 
+use crate::tiling::{Model, project};
+
 /// Colours for the walls, repeated when there are more walls.
 const PALETTE: [&str; 10] = [
     "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
@@ -435,8 +437,9 @@ fn pairing_letters(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Optio
     orbifold::pairing::pair_letters(&partners)
 }
 
-/// An SVG of the tiles of any orbifold group in its conformal model (Poincaré disk,
-/// stereographic plane or Euclidean plane), each tile filled by orientation, moved so that
+/// An SVG of the tiles of any orbifold group in a `model` of its plane (the Poincaré or Klein
+/// disk or the upper half-plane, the stereographic plane or the sphere's front hemisphere, the
+/// Euclidean plane), each tile filled by orientation, moved so that
 /// `center` is at the middle and magnified by `zoom`, with the letter p in every tile large enough
 /// to read (so rotations, reflections and glides show apart); the base tile's edges are drawn as in
 /// textbooks: mirrors thick and blue, paired edges red with a shared letter and arrows showing
@@ -449,12 +452,15 @@ fn pairing_letters(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Optio
 /// use orbifold::pairing::cover::GroupCover;
 /// use orbifold_picture::svg::group_tiling_svg;
 /// let cover = GroupCover::enumerate(&"22×".parse().unwrap(), Bound::Depth(3), true).unwrap();
-/// let svg = group_tiling_svg(&cover.polygon, &cover.tiles, "pgg", 400, Default::default(), 1.0);
+/// use orbifold_picture::tiling::Model;
+/// let cover = GroupCover::enumerate(&"22×".parse().unwrap(), Bound::Depth(3), true).unwrap();
+/// let svg = group_tiling_svg(&cover.polygon, &cover.tiles, Model::Euclidean, "pgg", 400, Default::default(), 1.0);
 /// assert!(svg.contains("marker-end"));
 /// ```
 pub fn group_tiling_svg(
     polygon: &orbifold::pairing::FundamentalPolygon,
     tiles: &[orbifold::pairing::cover::GroupTile],
+    model: Model,
     title: &str,
     size: u32,
     center: Complex64,
@@ -490,20 +496,18 @@ pub fn group_tiling_svg(
         svg,
         r##"<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="5" markerHeight="5" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="#c0392b"/></marker></defs>"##
     );
-    if polygon.geometry != Geometry::Euclidean {
-        let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
-        let _ = writeln!(
-            svg,
-            r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="#eceef2" stroke="#888" stroke-width="1"/>"##,
-            view.scale
-        );
-    }
+    draw_boundary(&mut svg, model, &view);
+    let at = Screen {
+        space,
+        model,
+        view: &view,
+    };
     for tile in tiles {
         let m = recentre * tile.matrix;
-        let Some((outline, extent)) = tile_outline(space, &view, &edges, m) else {
+        let Some((outline, extent)) = tile_outline(&at, &edges, m) else {
             continue;
         };
-        let holds_infinity = space.kappa() > 0.0
+        let holds_infinity = model == Model::Stereographic
             && polygon.contains_ambient(m.inverse() * glam::DVec3::new(0.0, 0.0, -1.0), 0.0);
         let fill = match (holds_infinity, tile.reflected) {
             (true, _) => "none",
@@ -518,12 +522,12 @@ pub fn group_tiling_svg(
             let _ = writeln!(
                 svg,
                 r##"<path d="{}" fill="none" stroke="#c0392b" stroke-width="{:.1}"/>"##,
-                letter_path(space, &view, &letters, m),
+                letter_path(&at, &letters, m),
                 (extent / 40.0).clamp(0.8, 3.0)
             );
         }
     }
-    draw_pairings(&mut svg, polygon, &view, &edges, recentre);
+    draw_pairings(&mut svg, polygon, &at, &edges, recentre);
     // The title last, on its own band, so that plane tilings do not cover it.
     let _ = writeln!(
         svg,
@@ -534,31 +538,82 @@ pub fn group_tiling_svg(
     svg
 }
 
+/// Where ambient points land in an SVG picture: the plane, its model and the view's pixels.
+struct Screen<'a> {
+    space: Space,
+    model: Model,
+    view: &'a View,
+}
+
+impl Screen<'_> {
+    /// The pixel of ambient point `p` and whether it is in view: a point behind the sphere is
+    /// put on its rim (so an outline across the limb follows it), one off the hyperbolic plane
+    /// (rounding at an ideal vertex) is `None`, and one far outside the picture is pulled in
+    /// along its direction.
+    fn px(&self, p: glam::DVec3) -> Option<((f64, f64), bool)> {
+        let (s, front) = match project(self.space, self.model, p) {
+            Some(s) => (s, true),
+            None if self.model == Model::Sphere => {
+                let r = p.x.hypot(p.y);
+                (Complex64::new(p.x, p.y) / r.max(1e-300), false)
+            }
+            None => return None,
+        };
+        let far = 20.0 * self.view.size / self.view.scale;
+        let s = if s.norm() > far || !s.is_finite() {
+            s / s.norm() * far
+        } else {
+            s
+        };
+        let (x, y) = self.view.px(s);
+        (x.is_finite() && y.is_finite()).then_some(((x, y), front))
+    }
+}
+
+/// The model's boundary: the circle at infinity of the disks, the real axis of the half-plane,
+/// the rim of the sphere and the equator of the stereographic plane; the plane itself shaded.
+fn draw_boundary(svg: &mut String, model: Model, view: &View) {
+    match model {
+        Model::Euclidean => {}
+        Model::HalfPlane => {
+            // The real axis is where the Cayley map's i-shifted picture has height −1.
+            let (_, y) = view.px(Complex64::new(0.0, -1.0));
+            let _ = writeln!(
+                svg,
+                r##"<rect x="0" y="0" width="{:.2}" height="{y:.2}" fill="#eceef2"/><line x1="0" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke="#888" stroke-width="1"/>"##,
+                view.size, view.size
+            );
+        }
+        Model::Poincare | Model::Klein | Model::Stereographic | Model::Sphere => {
+            let (cx, cy) = view.px(Complex64::new(0.0, 0.0));
+            let _ = writeln!(
+                svg,
+                r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="#eceef2" stroke="#888" stroke-width="1"/>"##,
+                view.scale
+            );
+        }
+    }
+}
+
 /// The SVG path of a tile: its edges' points moved by `m`, clamped far outside the picture, with
 /// points closer than half a pixel to the last one dropped; `None` for a tile that lies wholly
-/// outside the picture or is under a pixel and a half across (near the circle at infinity),
-/// which keeps deep hyperbolic pictures small.
-fn tile_outline(
-    space: Space,
-    view: &View,
-    edges: &[Vec<glam::DVec3>],
-    m: glam::DMat3,
-) -> Option<(String, f64)> {
-    let far = 20.0 * view.size / view.scale;
+/// outside the picture, behind the sphere, or is under a pixel and a half across (near the
+/// circle at infinity), which keeps deep hyperbolic pictures small.
+fn tile_outline(at: &Screen, edges: &[Vec<glam::DVec3>], m: glam::DMat3) -> Option<(String, f64)> {
+    let view = at.view;
+    let mut any_front = false;
     let points: Vec<(f64, f64)> = edges
         .iter()
         .flatten()
-        .map(|&p| {
-            let z = space.to_model(m * p);
-            let z = if z.norm() > far || !z.is_finite() {
-                z / z.norm() * far
-            } else {
-                z
-            };
-            view.px(z)
+        .filter_map(|&p| at.px(m * p))
+        .map(|(xy, front)| {
+            any_front |= front;
+            xy
         })
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
         .collect();
+    if !any_front {
+        return None;
+    }
     let (lo, hi) = points.iter().fold(
         ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN)),
         |(lo, hi), &(x, y)| ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y))),
@@ -608,13 +663,18 @@ fn letter_strokes(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Vec<gl
     vec![stem, bowl]
 }
 
-/// The SVG path of the letter's strokes moved by `m`.
-fn letter_path(space: Space, view: &View, strokes: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
+/// The SVG path of the letter's strokes moved by `m` (the points in view only).
+fn letter_path(at: &Screen, strokes: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
     let mut path = String::new();
     for stroke in strokes {
-        for (k, &p) in stroke.iter().enumerate() {
-            let (x, y) = view.px(space.to_model(m * p));
-            let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+        let mut first = true;
+        for &p in stroke {
+            let Some(((x, y), true)) = at.px(m * p) else {
+                first = true;
+                continue;
+            };
+            let _ = write!(path, "{}{x:.1} {y:.1} ", if first { "M" } else { "L" });
+            first = false;
         }
     }
     path
@@ -626,12 +686,11 @@ fn letter_path(space: Space, view: &View, strokes: &[Vec<glam::DVec3>], m: glam:
 fn draw_pairings(
     svg: &mut String,
     polygon: &orbifold::pairing::FundamentalPolygon,
-    view: &View,
+    at: &Screen,
     edges: &[Vec<glam::DVec3>],
     recentre: glam::DMat3,
 ) {
     use orbifold::pairing::EdgeKind;
-    let space = polygon.space();
     let letters = pairing_letters(polygon);
     for (i, (e, points)) in polygon.edges.iter().zip(edges).enumerate() {
         if points.len() < 2 {
@@ -639,8 +698,12 @@ fn draw_pairings(
         }
         let px: Vec<(f64, f64)> = points
             .iter()
-            .map(|&p| view.px(space.to_model(recentre * p)))
+            .filter_map(|&p| at.px(recentre * p))
+            .map(|(xy, _)| xy)
             .collect();
+        if px.len() < 2 {
+            continue;
+        }
         let (colour, width) = match e.kind {
             EdgeKind::Mirror => ("#1f6fd1", 3.5),
             EdgeKind::Paired { .. } => ("#c0392b", 2.2),
@@ -664,7 +727,9 @@ fn draw_pairings(
             // The letter outside the base tile, off the edge's middle away from the polygon's
             // centre, so that it never covers the tile's own motif.
             let (x, y) = px[mid];
-            let (cx, cy) = view.px(space.to_model(recentre * polygon.centre_ambient()));
+            let Some(((cx, cy), _)) = at.px(recentre * polygon.centre_ambient()) else {
+                continue;
+            };
             let (dx, dy) = (x - cx, y - cy);
             let length = dx.hypot(dy).max(1e-9);
             let _ = writeln!(

@@ -314,6 +314,39 @@ pub(crate) fn unproject(space: Space, model: Model, s: Complex64) -> Option<DVec
     Some(space.to_ambient(z))
 }
 
+/// The screen point (in units of half the picture) of the ambient point `p`: the inverse of
+/// the picture's unprojection. `None` off the model: behind the sphere's front hemisphere, or
+/// outside the hyperbolic plane.
+///
+/// ```
+/// use glam::DVec3;
+/// use num_complex::Complex64;
+/// use orbifold::{Geometry, space::Space};
+/// use orbifold_picture::tiling::{Model, project};
+/// let h2 = Space::new(Geometry::Hyperbolic);
+/// // The half-plane picture puts i, the image of the disk's centre, in the middle.
+/// let s = project(h2, Model::HalfPlane, DVec3::new(0.0, 0.0, 1.0)).unwrap();
+/// assert!(s.norm() < 1e-12);
+/// // Straight geodesics in the Klein disk: the model point 0.5 is at 0.8.
+/// let p = h2.to_ambient(Complex64::new(0.5, 0.0));
+/// assert!((project(h2, Model::Klein, p).unwrap() - Complex64::new(0.8, 0.0)).norm() < 1e-12);
+/// ```
+pub fn project(space: Space, model: Model, p: DVec3) -> Option<Complex64> {
+    if model == Model::Sphere {
+        return (p.z >= 0.0).then(|| Complex64::new(p.x, p.y));
+    }
+    let z = space.to_model(p);
+    if space.kappa() < 0.0 && !(z.norm_sqr() < 1.0) {
+        return None;
+    }
+    Some(match model {
+        Model::Poincare | Model::Stereographic | Model::Euclidean | Model::Sphere => z,
+        Model::Klein => z * (2.0 / (1.0 + z.norm_sqr())),
+        // The Cayley map, z ↦ i(1 + z)/(1 − z), moved down by i (as `unproject` moves up).
+        Model::HalfPlane => Complex64::i() * (1.0 + z) / (1.0 - z) - Complex64::i(),
+    })
+}
+
 /// Pixel (i, j)'s point on the plane (ambient) and its intrinsic size: from the conformal
 /// factor in the conformal models, numerically (half a pixel to the right) in the others;
 /// `None` where the pixel is off the model. Shared by the reflection and the group pictures.

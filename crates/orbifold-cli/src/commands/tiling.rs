@@ -46,8 +46,16 @@ pub fn run(args: &TilingArgs) -> Result<(), CliError> {
     );
     let bytes = match extension(args).as_deref() {
         Some("png") => png(args, &layout, model, center)?,
+        // The reflection group's own SVG draws exact arcs in the models whose geodesics are
+        // circles through the model's formulas; the others go through the group's picture.
+        Some("svg") if !arcs_drawn_in(model) => {
+            let symbol: OrbifoldSymbol = signature
+                .to_string()
+                .parse()
+                .map_err(|e| CliError::Input(format!("{signature} as an orbifold symbol: {e}")))?;
+            return run_group(args, &symbol);
+        }
         Some("svg") => {
-            svg_model(model)?;
             let depth = args.depth.unwrap_or(6) as usize;
             let bound = if layout.geometry == orbifold::Geometry::Spherical {
                 Bound::All
@@ -91,7 +99,6 @@ fn run_group(args: &TilingArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError>
             encode(&picture)?
         }
         Some("svg") => {
-            svg_model(model)?;
             let bound = if polygon.geometry == orbifold::Geometry::Spherical {
                 Bound::All
             } else {
@@ -106,6 +113,7 @@ fn run_group(args: &TilingArgs, symbol: &OrbifoldSymbol) -> Result<(), CliError>
             picture::group_tiling_svg(
                 &cover.polygon,
                 &cover.tiles,
+                model,
                 &title,
                 args.size,
                 center,
@@ -151,17 +159,13 @@ fn extension(args: &TilingArgs) -> Option<String> {
         .map(str::to_ascii_lowercase)
 }
 
-fn svg_model(model: Model) -> Result<(), CliError> {
-    if matches!(
+/// Whether the reflection group's SVG (exact arcs from the model's geodesic formulas) draws in
+/// `model`; the Klein disk, the half-plane and the sphere are drawn by the group's picture.
+fn arcs_drawn_in(model: Model) -> bool {
+    matches!(
         model,
         Model::Poincare | Model::Stereographic | Model::Euclidean
-    ) {
-        Ok(())
-    } else {
-        Err(CliError::Input(
-            "SVG tilings are drawn in the poincare, stereographic or euclidean model".into(),
-        ))
-    }
+    )
 }
 
 fn too_many(tiles: usize) -> Result<(), CliError> {
