@@ -336,7 +336,7 @@ pub fn project(space: Space, model: Model, p: DVec3) -> Option<Complex64> {
         return (p.z >= 0.0).then(|| Complex64::new(p.x, p.y));
     }
     let z = space.to_model(p);
-    if space.kappa() < 0.0 && !(z.norm_sqr() < 1.0) {
+    if space.kappa() < 0.0 && (z.norm_sqr() >= 1.0 || z.is_nan()) {
         return None;
     }
     Some(match model {
