@@ -32,6 +32,9 @@ pub struct Tile {
     pub matrix: DMat3,
     /// Its word length: the fewest walls (mirrors and portals) a path into the tile crosses.
     pub depth: u32,
+    /// The fewest walls that reflect (every wall but a portal) a path into the tile crosses,
+    /// among paths through the tiles found: its word length in a room of mirrors.
+    pub reflections: u32,
 }
 
 /// At most this many tiles (a bound on memory, about 300 MB, for rooms whose cover grows
@@ -70,6 +73,7 @@ pub fn tiles(room: &AnalyticRoom, centre: DVec3, listener: DVec3, reach: f64) ->
     let mut list = vec![Tile {
         matrix: DMat3::IDENTITY,
         depth: 0,
+        reflections: 0,
     }];
     found.insert(centre, 0);
     let mut next = 0;
@@ -90,10 +94,51 @@ pub fn tiles(room: &AnalyticRoom, centre: DVec3, listener: DVec3, reach: f64) ->
             list.push(Tile {
                 matrix,
                 depth: tile.depth + 1,
+                reflections: tile.depth + 1,
             });
         }
     }
+    let portals: Vec<bool> = room.walls.iter().map(|w| w.portal.is_some()).collect();
+    if portals.contains(&true) {
+        fewest_reflections(&mut list, &found, &generators, &portals, centre);
+    }
     list
+}
+
+/// Each tile's fewest reflecting walls over paths through the tiles found: a breadth-first
+/// search in which crossing a portal costs nothing and any other wall one (0-1 BFS). Every
+/// echo's path into a tile runs through tiles found ([`tiles`]), so no echo into it reflects
+/// off fewer walls.
+fn fewest_reflections(
+    list: &mut [Tile],
+    found: &Found,
+    generators: &[DMat3],
+    portals: &[bool],
+    centre: DVec3,
+) {
+    let mut fewest = vec![u32::MAX; list.len()];
+    fewest[0] = 0;
+    let mut queue = std::collections::VecDeque::from([0usize]);
+    while let Some(t) = queue.pop_front() {
+        let (matrix, here) = (list[t].matrix, fewest[t]);
+        for (g, &portal) in generators.iter().zip(portals) {
+            let Some(n) = found.index(matrix * *g * centre) else {
+                continue;
+            };
+            let cost = here + u32::from(!portal);
+            if cost < fewest[n] {
+                fewest[n] = cost;
+                if portal {
+                    queue.push_front(n);
+                } else {
+                    queue.push_back(n);
+                }
+            }
+        }
+    }
+    for (tile, f) in list.iter_mut().zip(fewest) {
+        tile.reflections = f.min(tile.depth);
+    }
 }
 
 /// The farthest a point of the room is from `centre`: its farthest corner (or cusp cut).
@@ -144,6 +189,11 @@ impl Found {
 
     /// Whether a tile takes the centre within 1e-7·(1 + |key|) of `key`.
     fn contains(&self, key: DVec3) -> bool {
+        self.index(key).is_some()
+    }
+
+    /// The index of the tile that takes the centre within 1e-7·(1 + |key|) of `key`, if any.
+    fn index(&self, key: DVec3) -> Option<usize> {
         let size = key.length();
         let tolerance = 1e-7 * (1.0 + size);
         // |key| changes by at most the distance between two keys.
@@ -161,7 +211,7 @@ impl Found {
                             .unwrap_or(NONE);
                         while i != NONE {
                             if (self.keys[i as usize] - key).length() < tolerance {
-                                return true;
+                                return Some(i as usize);
                             }
                             i = self.next[i as usize];
                         }
@@ -169,7 +219,7 @@ impl Found {
                 }
             }
         }
-        false
+        None
     }
 }
 
@@ -217,6 +267,36 @@ mod tests {
                 assert_eq!(count as u64, *expected, "{symbol} depth {depth}");
             }
         }
+    }
+
+    #[test]
+    fn portals_reflect_nothing() {
+        // The fewest reflecting walls into a tile: none where every wall is a portal; where the
+        // portals are rotations (4*3: about the apex), as many as the tile's orientation says,
+        // mod 2; never more than its word length; and a room of mirrors' word length itself.
+        let setup = |symbol: &str| {
+            let layout =
+                Layout::of_symbol(&symbol.parse().unwrap(), &LayoutOptions::default()).unwrap();
+            let room = AnalyticRoom::all_mirrors(&layout, 1.0, [1.0; 3]).unwrap();
+            let centre = room.space.to_ambient(layout.centre);
+            tiles(&room, centre, centre, 6.0)
+        };
+        assert!(setup("632").iter().all(|t| t.reflections == 0));
+        let mixed = setup("4*3");
+        assert!(
+            mixed
+                .iter()
+                .any(|t| t.reflections > 0 && t.reflections < t.depth)
+        );
+        for t in &mixed {
+            assert!(t.reflections <= t.depth);
+            assert_eq!(
+                t.reflections % 2 == 1,
+                t.matrix.determinant() < 0.0,
+                "{t:?}"
+            );
+        }
+        assert!(setup("*2223").iter().all(|t| t.reflections == t.depth));
     }
 
     #[test]

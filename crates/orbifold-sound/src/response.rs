@@ -146,12 +146,8 @@ impl Listening<'_> {
         let settings = self.settings;
         let image = tile.matrix * source.at;
         let d = space.ambient_distance(listener.at, image);
-        // A portal passes sound on whole: in a room with portals a word's length bounds nothing.
-        let wall_best = if self.room.walls.iter().any(|w| w.portal.is_some()) {
-            1.0
-        } else {
-            largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall))
-        };
+        let wall_best =
+            largest(&settings.reflection.mirror).max(largest(&settings.reflection.wall));
         let mut paths = Vec::new();
         let mut arrivals = Vec::new();
         let mut lost = 0;
@@ -168,8 +164,9 @@ impl Listening<'_> {
             if quiet[turn as usize % 2] {
                 continue;
             }
-            // No path into this tile crosses fewer walls than its word length.
-            let bound = wall_best.powi(tile.depth.min(i32::MAX as u32) as i32)
+            // No path into this tile reflects off fewer walls than its fewest (a portal passes
+            // sound on whole).
+            let bound = wall_best.powi(tile.reflections.min(i32::MAX as u32) as i32)
                 * self.spreading_bound(space, sigma, sigma);
             if bound < settings.min_amplitude {
                 continue;
