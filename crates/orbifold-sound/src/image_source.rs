@@ -99,7 +99,9 @@ pub fn tiles(room: &AnalyticRoom, centre: DVec3, listener: DVec3, reach: f64) ->
         }
     }
     let portals: Vec<bool> = room.walls.iter().map(|w| w.portal.is_some()).collect();
-    if portals.contains(&true) {
+    if portals.iter().all(|&p| p) {
+        list.iter_mut().for_each(|t| t.reflections = 0);
+    } else if portals.contains(&true) {
         fewest_reflections(&mut list, &found, &generators, &portals, centre);
     }
     list
