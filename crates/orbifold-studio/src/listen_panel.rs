@@ -30,8 +30,9 @@ pub struct Heard {
     pub echoes: usize,
 }
 
-/// The scene to hear: the listener at `camera`, the source `CLAP_DISTANCE` in front of it (at
-/// the camera itself where that is outside the room).
+/// The scene to hear: the listener at `camera`, the source `CLAP_DISTANCE` in front of it: past
+/// a portal, where it lands beyond one, brought back through it as a person walking there would
+/// be; at the camera itself where it lands beyond a mirror wall.
 pub fn clap_scene(scene: &Scene, camera: &orbifold_scene::Camera) -> Result<Scene, String> {
     let mut scene = scene.clone();
     scene.camera = camera.clone();
@@ -48,6 +49,7 @@ pub fn clap_scene(scene: &Scene, camera: &orbifold_scene::Camera) -> Result<Scen
     let step = CLAP_DISTANCE / scene.sound.metres_per_unit;
     let hands = if norm > 0.0 {
         let p = space.exp(space.to_ambient(z), tangent * (step / norm));
+        let (p, _, _) = layout.carried_inside(p, tangent, 0.0);
         let w = space.to_model(p);
         let at = [w.re, w.im];
         let inside = layout

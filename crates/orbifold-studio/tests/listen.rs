@@ -69,6 +69,33 @@ fn the_listen_button_plays_a_clap_through_the_room() {
 }
 
 #[test]
+fn a_clap_past_a_portal_comes_back_through_it() {
+    // In 632 (every wall a portal) a camera close to a wall and facing it hears the clap from
+    // where the hands are once carried through that portal: inside the room, not at the ear.
+    let mut scene = quick_scene();
+    scene.orbifold.signature = "632".into();
+    let layout = scene.layout().unwrap();
+    let space = layout.space();
+    let (a, b) = (layout.vertices[0].position, layout.vertices[1].position);
+    let mid = (a + b) / 2.0;
+    let near = layout.centre + (mid - layout.centre) * 0.97;
+    let towards = mid - near;
+    let camera = orbifold_scene::Camera {
+        at: [near.re, near.im],
+        yaw: towards.im.atan2(towards.re).to_degrees(),
+        pitch: 0.0,
+        ..scene.camera.clone()
+    };
+    let heard = clap_scene(&scene, &camera).unwrap();
+    let source = heard.sound.source.unwrap();
+    assert_ne!(source.at, camera.at, "the clap fell back to the ear");
+    let w = space.to_ambient(num_complex::Complex64::new(source.at[0], source.at[1]));
+    assert!(layout.edges.iter().all(|e| e.wall.dot(w) > 0.0));
+    let response = Hearing::from_scene(&heard, None).unwrap().mono(&|_, _| {});
+    assert!(response.arrivals.len() > 10 && response.lost == 0);
+}
+
+#[test]
 fn a_clap_is_half_a_metre_in_front_of_the_camera() {
     let scene = quick_scene();
     let camera = orbifold_scene::Camera {
