@@ -12,8 +12,8 @@ use plotters::prelude::*;
 use crate::arrival::Arrival;
 use crate::error::SoundError;
 
-/// The classes of reflection count, each with its colour: direct, 1, 2, 3, 4–7, 8–15, 16–31,
-/// 32 and more.
+/// The classes of reflection count, each with its colour: none (the direct sound, and echoes
+/// through portals alone), 1, 2, 3, 4–7, 8–15, 16–31, 32 and more.
 const CLASSES: [(u32, &str, RGBColor); 8] = [
     (0, "direct", RGBColor(0, 0, 0)),
     (1, "1", RGBColor(213, 62, 79)),
@@ -141,7 +141,8 @@ fn draw(
         chart
             .draw_series(lines)?
             .label(match c {
-                0 => "direct".to_string(),
+                // Through portals alone an echo reflects off nothing, as the direct sound does.
+                0 => "no reflection".to_string(),
                 1 => "1 reflection".to_string(),
                 _ => format!("{} reflections", CLASSES[c].1),
             })
