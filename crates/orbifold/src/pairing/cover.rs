@@ -25,7 +25,6 @@
 //! one of length d − 1, d or d + 1 (the generators are closed under inverses).
 
 use glam::{DMat3, DVec3};
-use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use std::collections::hash_map::Entry;
 
@@ -187,6 +186,8 @@ struct Search {
     /// faces the parent.
     generator_norms: Vec<f64>,
     facing: Vec<u32>,
+    /// For each generator, the length of its translation column (E²).
+    generator_shifts: Vec<f64>,
     /// For each edge, the other edge whose generator is the same group element: the partner
     /// of an edge paired by a half-turn (N = N⁻¹, e.g. the two halves of a folded side), itself
     /// otherwise. Only the lower of two such edges is expanded, and a child reached across one
@@ -195,6 +196,8 @@ struct Search {
     centre: DVec3,
     /// ‖O‖₂.
     centre_length: f64,
+    /// The length of O's first two coordinates (E²).
+    centre_planar: f64,
     /// The minimum ambient distance between images of the centre, σ.
     separation: f64,
     /// The generators' error e_gen.
@@ -242,6 +245,10 @@ impl Search {
         Search {
             space,
             generator_norms: generators.iter().map(|n| spectral(space, n)).collect(),
+            generator_shifts: generators
+                .iter()
+                .map(|n| n.z_axis.truncate().length())
+                .collect(),
             images: generators.iter().map(|n| *n * centre).collect(),
             defect,
             generators,
@@ -249,6 +256,7 @@ impl Search {
             twin,
             centre,
             centre_length: centre.length(),
+            centre_planar: centre.truncate().length(),
             separation: 2.0 * space.sin(delta),
             bound,
             reach,
@@ -276,15 +284,14 @@ impl Search {
                 "the polygon's centre is not inside it".into(),
             ));
         }
-        let bytes_per_tile = (std::mem::size_of::<Node>() + 48) as u128;
+        let bytes_per_tile =
+            (std::mem::size_of::<(Node, u32)>() + std::mem::size_of::<(Cell, Image)>() + 8) as u128;
         // One grid holds the last two layers and the one being built; the layer before those
         // is evicted before each expansion (a word of length d + 1 equals none shorter than d − 1).
         let mut grid = Grid::new(cell);
-        grid.insert(base.point, 0.0);
-        // The layers before the current one: d − 2 (evicted next) and d − 1.
-        let mut older: Vec<DVec3> = Vec::new();
-        let mut previous: Vec<DVec3> = Vec::new();
+        grid.insert_new(base.point, 0.0, self.separation, 0);
         let mut layer = vec![(base, u32::MAX)];
+        let mut previous = 1;
         let mut depth = 0usize;
         let mut total = 0u128;
         loop {
@@ -307,19 +314,21 @@ impl Search {
             if layer.is_empty() || matches!(self.bound, Bound::Depth(d) if depth >= d) {
                 break;
             }
-            for p in older.drain(..) {
-                grid.remove(p);
-            }
+            grid.evict_before(depth.saturating_sub(1) as u32);
             // Under a tile bound, a layer that cannot fit whole is not finished.
             let room = match self.bound {
                 Bound::Tiles(limit) => (limit as u128).saturating_sub(total),
                 _ => u128::MAX,
             };
+            // Room for the next layer at the last layers' rate of growth, so that the table
+            // grows once per layer rather than doubling several times on the way.
+            let growth = layer.len() as f64 / previous.max(1) as f64;
+            let expected = (layer.len() as f64 * growth.max(1.0) * 1.25) as u128;
+            grid.cells.reserve(expected.min(room).min(1 << 24) as usize);
+            previous = layer.len();
             let Some(next) = self.expand(&layer, &mut grid, depth + 1, room)? else {
                 break;
             };
-            older = std::mem::take(&mut previous);
-            previous = layer.iter().map(|(node, _)| node.point).collect();
             layer = next;
             depth += 1;
         }
@@ -337,7 +346,9 @@ impl Search {
     /// norm is 1, so the bound grows linearly with the depth; in H² it grows with the product of
     /// the generators' norms. In E² the translation column is followed apart from the linear
     /// part, whose norm is 1: both bounds then grow linearly.
-    fn propagate(&self, parent: &Node, p_norm: f64, i: usize) -> (f64, f64, f64) {
+    ///
+    /// `p_norm` is ‖P‖ and `shift_p` the length of P's translation column (used in E² only).
+    fn propagate(&self, parent: &Node, p_norm: f64, shift_p: f64, i: usize) -> (f64, f64, f64) {
         let n_norm = self.generator_norms[i];
         let safety = 1.0 + 1e-10;
         if self.space.kappa() != 0.0 {
@@ -349,8 +360,7 @@ impl Search {
             return (error, 0.0, point_error);
         }
         // E²: M = [A t; 0 1]. (PN)'s linear part is A_P A_N, its translation A_P t_N + t_P.
-        let shift_n = self.generators[i].z_axis.truncate().length();
-        let shift_p = parent.matrix.z_axis.truncate().length();
+        let shift_n = self.generator_shifts[i];
         let error = (parent.error * n_norm
             + p_norm * self.defect * n_norm
             + 2.0 * GAMMA3 * p_norm * n_norm)
@@ -360,7 +370,7 @@ impl Search {
             + p_norm * self.defect * (1.0 + shift_n)
             + 3.0 * GAMMA3 * (p_norm * shift_n + shift_p))
             * safety;
-        let o = self.centre.truncate().length();
+        let o = self.centre_planar;
         let point_error = error * o + shift + 3.0 * GAMMA3 * (p_norm * (o + shift_n) + shift_p);
         (error, shift, point_error)
     }
@@ -416,9 +426,9 @@ impl Search {
     /// layers (in `grid`) nor already in the new one, which it adds to `grid`; `None` as soon as
     /// it would hold more than `room` tiles.
     ///
-    /// In two passes over runs of the layer: the children's images, error bounds and matrices,
-    /// less those of the last two layers' tiles, on all cores (the grid is only read); then the
-    /// new layer's repeats dropped in order, so that the result does not depend on the threads.
+    /// One pass in the layer's order: each child is looked up and, when new, stored at once.
+    /// (Looking the children up on all cores first and storing them in order afterwards, with
+    /// the grid sharded among the cores or not, was slower on two cores: docs/cover.md.)
     fn expand(
         &self,
         layer: &[(Node, u32)],
@@ -426,61 +436,40 @@ impl Search {
         depth: usize,
         room: u128,
     ) -> Result<Option<Vec<(Node, u32)>>, CoverError> {
-        // Parents per task; about an eighth of the layer per batch between checks of `room`,
-        // so that a layer that does not fit is abandoned early.
-        const RUN: usize = 1024;
-        let batch = layer.len().div_ceil(8).next_multiple_of(RUN);
-        let mut next: Vec<(Node, u32)> = Vec::new();
-        for (b, parents) in layer.chunks(batch).enumerate() {
-            let offset = b * batch;
-            let runs: Vec<Vec<Child>> = parents
-                .par_chunks(RUN)
-                .enumerate()
-                .map(|(r, run)| self.children(run, offset + r * RUN, grid, depth))
-                .collect::<Result<_, _>>()?;
-            let found: usize = runs.iter().map(Vec::len).sum();
-            grid.reserve(found);
-            next.reserve(found);
-            for child in runs.iter().flatten() {
-                // Two images of one tile lie within the sum of their error bounds.
-                if !grid.insert_new(child.point, child.point_error, self.separation) {
-                    continue;
-                }
-                let (parent, i) = (&layer[child.parent as usize].0, child.generator as usize);
+        let mut next = Vec::with_capacity(layer.len() * 2);
+        let (separation, stamp) = (self.separation, depth as u32);
+        self.each_child(layer, depth, |parent, i, child, point_error| {
+            if grid.insert_new(child.point, point_error, separation, stamp) {
                 let node = Node {
                     matrix: parent.matrix * self.generators[i],
-                    point: child.point,
-                    error: child.error,
-                    shift: child.shift,
+                    ..child
                 };
                 next.push((node, self.facing[i]));
             }
-            if next.len() as u128 > room {
-                return Ok(None);
-            }
-        }
-        Ok(Some(next))
+            next.len() as u128 <= room
+        })?;
+        Ok((next.len() as u128 <= room).then_some(next))
     }
 
-    /// The children of a run of parents (the first at index `first` of the layer) that are not
-    /// among the tiles in `grid` (the last two layers).
-    fn children(
+    /// Calls `found` with each parent, generator and child of the layer other than the child's
+    /// own parent, the child's image of the centre and error bounds filled in (its matrix not
+    /// yet), and the bound on its image's error, until `found` returns false.
+    fn each_child(
         &self,
-        run: &[(Node, u32)],
-        first: usize,
-        grid: &Grid,
+        layer: &[(Node, u32)],
         depth: usize,
-    ) -> Result<Vec<Child>, CoverError> {
-        let mut children = Vec::with_capacity(run.len() * 2);
+        mut found: impl FnMut(&Node, usize, Node, f64) -> bool,
+    ) -> Result<(), CoverError> {
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
         let bounded = self.reach.is_finite();
-        for (k, (parent, facing)) in run.iter().enumerate() {
+        for (parent, facing) in layer {
             if bounded && self.distance(parent.point) > self.reach {
                 continue;
             }
             let p_norm = spectral(self.space, &parent.matrix);
+            let shift_p = parent.matrix.z_axis.truncate().length();
             for i in 0..self.generators.len() {
                 // Across the edge it faces its parent by lies the parent; a half-turn's second
                 // edge gives the first one's children again.
@@ -490,36 +479,23 @@ impl Search {
                 }
                 // The image of O first (N·O is precomputed); the matrix only for a new tile.
                 let point = parent.matrix * self.images[i];
-                let (error, shift, point_error) = self.propagate(parent, p_norm, i);
+                let (error, shift, point_error) = self.propagate(parent, p_norm, shift_p, i);
                 if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
-                if grid.contains(point, point_error, self.separation) {
-                    continue;
-                }
-                children.push(Child {
-                    parent: (first + k) as u32,
-                    generator: i as u32,
+                let child = Node {
+                    matrix: DMat3::ZERO,
                     point,
-                    point_error,
                     error,
                     shift,
-                });
+                };
+                if !found(parent, i, child, point_error) {
+                    return Ok(());
+                }
             }
         }
-        Ok(children)
+        Ok(())
     }
-}
-
-/// A child found in the first pass of [`Search::expand`]: the parent's index in its layer, the
-/// generator, the image of the centre and the error bounds.
-struct Child {
-    parent: u32,
-    generator: u32,
-    point: DVec3,
-    point_error: f64,
-    error: f64,
-    shift: f64,
 }
 
 /// For each edge, the edge whose generator is the same group element ([`Search::twin`]).
@@ -572,11 +548,53 @@ fn defect(polygon: &FundamentalPolygon, generators: &[DMat3]) -> f64 {
     16.0 * worst.max(64.0 * U)
 }
 
-/// ⌊v⌋ as an integer, without a call to the C library's `floor` (which the baseline x86-64
-/// target makes of `f64::floor`). Values beyond the range of i64 saturate, as `as` does.
-fn floor(v: f64) -> i64 {
+/// ⌊v⌋ as an integer and as a float, without a call to the C library's `floor` (which the
+/// baseline x86-64 target makes of `f64::floor`) nor a saturating conversion per coordinate.
+///
+/// Adding 1.5·2⁵² rounds v to the nearest integer, whose two's complement then sits in the
+/// sum's low mantissa bits (exact for |v| < 2⁵¹; larger values, far beyond any certified image,
+/// take the saturating conversion as `as` does).
+fn floor(v: f64) -> (i64, f64) {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    if v.abs() < (1u64 << 50) as f64 {
+        let sum = v + MAGIC;
+        let nearest = sum - MAGIC;
+        let n = sum.to_bits() as i64 - MAGIC.to_bits() as i64;
+        return if nearest > v {
+            (n - 1, nearest - 1.0)
+        } else {
+            (n, nearest)
+        };
+    }
     let t = v as i64;
-    if (t as f64) > v { t - 1 } else { t }
+    let t = if (t as f64) > v {
+        t.saturating_sub(1)
+    } else {
+        t
+    };
+    (t, t as f64)
+}
+
+/// A cell of the grid: its integer coordinates.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct Cell(i64, i64, i64);
+
+impl std::hash::Hash for Cell {
+    /// One word, mixed from the three: the grid's cells are consecutive integers, often with
+    /// one coordinate constant (E²), which hashing them word by word spreads poorly.
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        let h = (self.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            ^ (self.1 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (self.2 as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+        state.write_u64(h ^ (h >> 32));
+    }
+}
+
+/// An image of the centre stored in the grid, with its tile's depth.
+#[derive(Clone, Copy)]
+struct Image {
+    point: DVec3,
+    depth: u32,
 }
 
 /// Images of the centre in cells of a grid in ambient ℝ³. Cells are σ/2 wide, so their
@@ -585,7 +603,7 @@ fn floor(v: f64) -> i64 {
 struct Grid {
     /// 1 / cell: the cells are found by multiplying, not dividing.
     inverse: f64,
-    cells: FxHashMap<(i64, i64, i64), DVec3>,
+    cells: FxHashMap<Cell, Image>,
     /// The largest error bound of a stored image.
     error: f64,
 }
@@ -600,44 +618,25 @@ impl Grid {
     }
 
     /// The cell of `p` and `p`'s position in it, each coordinate in [0, 1) up to rounding.
-    fn locate(&self, p: DVec3) -> ((i64, i64, i64), DVec3) {
+    fn locate(&self, p: DVec3) -> (Cell, DVec3) {
         let q = p * self.inverse;
-        let key = (floor(q.x), floor(q.y), floor(q.z));
-        let corner = DVec3::new(key.0 as f64, key.1 as f64, key.2 as f64);
-        (key, q - corner)
+        let ((x, fx), (y, fy), (z, fz)) = (floor(q.x), floor(q.y), floor(q.z));
+        (Cell(x, y, z), q - DVec3::new(fx, fy, fz))
     }
 
-    fn reserve(&mut self, additional: usize) {
-        self.cells.reserve(additional);
+    /// Forgets the images of tiles shallower than `depth`: one sweep over the table, cheaper
+    /// than looking each of them up again.
+    fn evict_before(&mut self, depth: u32) {
+        self.cells.retain(|_, image| image.depth >= depth);
     }
 
-    fn insert(&mut self, p: DVec3, error: f64) {
-        self.error = self.error.max(error);
-        self.cells.insert(self.locate(p).0, p);
-    }
-
-    fn remove(&mut self, p: DVec3) {
-        let key = self.locate(p).0;
-        if let Entry::Occupied(cell) = self.cells.entry(key)
-            && *cell.get() == p
-        {
-            cell.remove();
-        }
-    }
-
-    /// Whether an image of the same tile as `p` (whose error is at most `error`) is stored.
+    /// Stores `p` (of a tile at `depth`, its error at most `error`) unless an image of the same
+    /// tile is stored; whether it was new.
     ///
     /// Two computed images in one cell are less than a cell's diagonal, √3·σ/2 < 7σ/8, apart:
     /// they are the same tile's. The neighbouring cells are searched only when `p` lies within
     /// the two error bounds of its own cell's faces, and there an image must be within σ/2.
-    fn contains(&self, p: DVec3, error: f64, separation: f64) -> bool {
-        let (key, local) = self.locate(p);
-        self.cells.contains_key(&key) || self.in_neighbour(p, key, local, error, separation)
-    }
-
-    /// Stores `p` unless an image of the same tile is stored (as [`Grid::contains`]); whether it
-    /// was new.
-    fn insert_new(&mut self, p: DVec3, error: f64, separation: f64) -> bool {
+    fn insert_new(&mut self, p: DVec3, error: f64, separation: f64, depth: u32) -> bool {
         let (key, local) = self.locate(p);
         // The neighbours first: they are searched only near the cell's faces, and the cell
         // itself is then probed once, to find it empty and fill it.
@@ -647,7 +646,7 @@ impl Grid {
         match self.cells.entry(key) {
             Entry::Occupied(_) => false,
             Entry::Vacant(cell) => {
-                cell.insert(p);
+                cell.insert(Image { point: p, depth });
                 self.error = self.error.max(error);
                 true
             }
@@ -659,7 +658,7 @@ impl Grid {
     fn in_neighbour(
         &self,
         p: DVec3,
-        (x, y, z): (i64, i64, i64),
+        Cell(x, y, z): Cell,
         local: DVec3,
         error: f64,
         separation: f64,
@@ -683,8 +682,8 @@ impl Grid {
                     if (dx, dy, dz) != (0, 0, 0)
                         && self
                             .cells
-                            .get(&(x + dx, y + dy, z + dz))
-                            .is_some_and(|q| q.distance_squared(p) < half_squared)
+                            .get(&Cell(x + dx, y + dy, z + dz))
+                            .is_some_and(|q| q.point.distance_squared(p) < half_squared)
                     {
                         return true;
                     }
@@ -707,6 +706,45 @@ mod tests {
     fn geometric(s: &str, bound: Bound) -> GroupCover {
         GroupCover::enumerate_polygon(polygon(s), bound, true)
             .unwrap_or_else(|e| panic!("{s}: {e}"))
+    }
+
+    /// Beyond the range of i64 both saturate, as `as` does.
+    fn assert_floor(v: f64) {
+        let (n, f) = floor(v);
+        assert_eq!(n, v.floor() as i64, "{v}");
+        assert_eq!(f, (v.floor() as i64) as f64, "{v}");
+    }
+
+    /// The grid's floor agrees with the C library's at integers, halves and their neighbours in
+    /// the last bit, and far beyond the rounding trick's range.
+    #[test]
+    fn floor_agrees_with_the_library_at_integers_and_halves() {
+        for v in [
+            0.0,
+            -0.0,
+            1e300,
+            -1e300,
+            2f64.powi(50),
+            -(2f64.powi(51)),
+            2f64.powi(53),
+        ] {
+            assert_floor(v);
+        }
+        for k in -1000..1000 {
+            for v in [k as f64, k as f64 + 0.5] {
+                for w in [v, v.next_up(), v.next_down()] {
+                    assert_floor(w);
+                }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// And at random values of every scale and both signs.
+        #[test]
+        fn floor_agrees_with_the_library(m in -1.0f64..1.0, e in -3i32..18) {
+            assert_floor(m * 10f64.powi(e));
+        }
     }
 
     /// The edges paired by involutions (here half-turns), and only those, share their

@@ -1,0 +1,60 @@
+//! The group cover's speed against the combinatorial cover of a related reflection group, both
+//! bounded at 30 000 tiles, as the fastest of many runs (docs/benchmarks.md, "Group covers").
+//!
+//! Criterion's mean (`cargo bench -p orbifold --bench cover`) moves by ±15 % on a shared
+//! machine; the fastest of N runs is what the code costs when nothing interferes. Run it with
+//! glibc's heap kept between runs, or a third of each run is page faults for memory the previous
+//! one gave back:
+//!
+//! `MALLOC_TRIM_THRESHOLD_=1000000000 MALLOC_MMAP_THRESHOLD_=1000000000 cargo run --release -p orbifold --example cover_timing [RUNS]`
+use std::time::Instant;
+
+use orbifold::cover::{Bound, Cover};
+use orbifold::pairing::FundamentalPolygon;
+use orbifold::pairing::cover::GroupCover;
+use orbifold::{OrbifoldSymbol, Signature};
+
+/// The fastest of `runs` calls of `f`, in seconds, and the tiles of the last.
+fn fastest(runs: usize, mut f: impl FnMut() -> u64) -> (f64, u64) {
+    let mut best = f64::INFINITY;
+    let mut tiles = 0;
+    for _ in 0..runs {
+        let start = Instant::now();
+        tiles = f();
+        best = best.min(start.elapsed().as_secs_f64());
+    }
+    (best, tiles)
+}
+
+fn main() {
+    let runs: usize = std::env::args()
+        .nth(1)
+        .map_or(300, |r| r.parse().expect("RUNS is a count"));
+    let bound = Bound::Tiles(30_000);
+    println!("| group | tiles | fastest | reflection group | tiles | fastest | ratio per tile |");
+    println!("|---|---|---|---|---|---|---|");
+    for (symbol, reflections) in [
+        ("632", "*632"),
+        ("22×", "*2222"),
+        ("2223", "*2223"),
+        ("oo", "*22222222"),
+    ] {
+        let parsed: OrbifoldSymbol = symbol.parse().expect("a symbol");
+        let polygon = FundamentalPolygon::new(&parsed, &Default::default()).expect("a polygon");
+        let (group, group_tiles) = fastest(runs, || {
+            let cover = GroupCover::enumerate_polygon(polygon.clone(), bound, false);
+            cover.expect("a cover").counts_by_depth.iter().sum()
+        });
+        let signature: Signature = reflections.parse().expect("a signature");
+        let (combinatorial, tiles) = fastest(runs, || {
+            let cover = Cover::enumerate(&signature, bound, false).expect("a cover");
+            cover.counts_by_depth.iter().sum()
+        });
+        let ratio = (group / group_tiles as f64) / (combinatorial / tiles as f64);
+        println!(
+            "| `{symbol}` | {group_tiles} | {:.2} ms | `{reflections}` | {tiles} | {:.2} ms | {ratio:.1}× |",
+            group * 1e3,
+            combinatorial * 1e3
+        );
+    }
+}
