@@ -629,10 +629,12 @@ Free parameters: *2222 has one, the ratio of wall 0's length to wall 1's. A hype
 N−3: parameter j (j = 1…N−3) sets the distance between wall N−1 and wall j to its value in the
 balanced polygon (the one with an inscribed circle) times the 8th root of the parameter. Every
 positive value gives a valid polygon; all 1 is the balanced polygon; the default is 1.4 each.
+Any other symbol's polygon lists what each of its parameters means, with its range.
 
 Examples:
   orbifold layout '*2333'
   orbifold layout '*22222' --params 1,3 --json
+  orbifold layout '2*2222' --params 2,0.5,1   a cone and a mirror: *222222 with a side folded
   orbifold layout '*∞∞∞∞∞' --shape incircle -o ideal.svg
   orbifold layout '*235' --at 0.3,-0.1 --angle 30 -o tile.png --size 600";
 

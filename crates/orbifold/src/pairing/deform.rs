@@ -43,9 +43,10 @@
 //!
 //! **Exceptions.** A corner of angle π in a cycle of several (the balanced star's two copies of v
 //! when it has two sectors) is kept at π, or convexity would be lost at once. A balanced star
-//! whose paired edges have length 0 (a cone of order 2 and one boundary with three corners or
-//! more, `2*2222`: the cone and both copies of v at one point) is not deformed: it keeps no
-//! parameters, and `missing_parameters` says so. Why the words are not longer than three letters
+//! whose paired edges have length 0 (the cone and both copies of v at one point, as a cone of
+//! order 2 and one boundary with corners would give) is not deformed: it keeps no parameters, and
+//! `missing_parameters` says so; no symbol reaches it, as that family (`2*2222`, `2*3∞`) has its
+//! folded polygon of mirrors instead (`textbook`). Why the words are not longer than three letters
 //! nor longer than 30: the trace of a long product comes out of cancellations between entries of
 //! size e^ℓ; the sign of det W is taken from the letters for the same reason.
 
@@ -238,8 +239,9 @@ impl Problem {
     }
 
     /// Whether a paired edge has length 0: the balanced star of a cone of order 2 between the
-    /// two copies of v (`2*2222`) puts all three at one point of a side, where the lengths are
-    /// not differentiable; such a star is kept rigid (docs/orbifolds.md).
+    /// two copies of v would put all three at one point of a side, where the lengths are not
+    /// differentiable; such a star is kept rigid. (The one family that would, `2*k₁…kₙ`, is built
+    /// as a folded polygon of mirrors instead.)
     fn degenerate(&self, points: &[DVec3]) -> bool {
         let n = points.len();
         self.lengths

@@ -15,6 +15,7 @@
 //! | `pqr` (three cones) | two copies of the triangle of `*pqr`, edges paired by the rotations about p and q |
 //! | `k*m`, `k*` (k ≥ 3) | the isosceles triangle with apex 2π/k, its legs paired by the rotation, its base a mirror |
 //! | `2*mn`, `2*m`, `2*` | the triangle π/m, β, γ (β + γ = π/n) of mirrors, its third side folded by a half-turn |
+//! | `2*k₁…kₙ` (n ≥ 3, or `2*m∞`) | the polygon of mirrors of `*k₁…kₙ22`, its side between the two right angles folded by a half-turn |
 //! | `NN`, `N×`, `×` | a lune, its sides paired by a rotation (NN) or a rotatory reflection (N×) |
 //! | `o` | a parallelogram, opposite sides paired by the lattice's translations |
 //! | `2222` | half a lattice parallelogram, two sides folded by half-turns, two paired by a translation |
@@ -161,6 +162,9 @@ pub enum Construction {
     ConeAndMirror,
     /// `2*mn`, `2*m`, `2*`: a triangle of mirrors with its third side folded by a half-turn.
     FoldedTriangle,
+    /// `2*k₁…kₙ` (n ≥ 3, or `2*m∞`): the polygon of `*k₁…kₙ22`, its side between the right
+    /// angles folded by a half-turn.
+    FoldedPolygon,
     /// `NN`, `N×`, `×`: a lune with its sides paired.
     Lune,
     /// `o` (p1): a parallelogram, opposite sides paired by translations.
@@ -182,6 +186,7 @@ impl Construction {
             Construction::DoubledTriangle => "doubled triangle",
             Construction::ConeAndMirror => "cone and mirror",
             Construction::FoldedTriangle => "folded triangle",
+            Construction::FoldedPolygon => "folded polygon",
             Construction::Lune => "lune",
             Construction::Parallelogram => "parallelogram",
             Construction::FoldedParallelogram => "folded parallelogram",

@@ -515,16 +515,6 @@ proptest! {
     }
 }
 
-/// The family whose balanced star is degenerate and kept rigid (docs/orbifolds.md): a cone of
-/// order 2 and one mirror boundary with corners, nothing else (the textbook takes `2*mn`).
-fn rigid_balanced_star(s: &OrbifoldSymbol) -> bool {
-    s.handles() == 0
-        && s.crosscaps() == 0
-        && s.cones() == [Order::integer(2)]
-        && s.boundaries().len() == 1
-        && !s.boundaries()[0].is_empty()
-}
-
 fn with_factors(s: &OrbifoldSymbol, factors: Vec<f64>) -> Result<FundamentalPolygon, LayoutError> {
     FundamentalPolygon::new(
         s,
@@ -553,7 +543,7 @@ fn check_lengths(s: &OrbifoldSymbol, p: &FundamentalPolygon, factors: &[f64]) {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 
-    /// Every hyperbolic star offers all of Thurston's parameters (but the one rigid family), and
+    /// Every hyperbolic star offers all of Thurston's parameters, and
     /// every value in the documented range gives a polygon that meets Poincaré's conditions with
     /// the closed geodesics' lengths asked for.
     #[test]
@@ -565,9 +555,7 @@ proptest! {
         let p = FundamentalPolygon::new(&s, &LayoutOptions::default()).unwrap();
         prop_assume!(p.construction == Construction::Star);
         prop_assert_eq!(p.parameters.len() + p.missing_parameters, s.free_parameters());
-        if !rigid_balanced_star(&s) {
-            prop_assert_eq!(p.missing_parameters, 0, "{}", s);
-        }
+        prop_assert_eq!(p.missing_parameters, 0, "{}", s);
         let (lo, hi) = deform::FACTOR_RANGE;
         // Half of the cases at the range's corners, where the lengths are furthest apart.
         let factors: Vec<f64> = seeds
@@ -620,7 +608,6 @@ fn default_factors_give_todays_star() {
         "o*2",
         "*2*3",
         "3*33",
-        "2*2222",
         "∞∞2∞",
         "2∞*",
         "**2",
@@ -648,4 +635,85 @@ fn parameters_out_of_range_are_refused() {
         with_factors(&s, factors),
         Err(LayoutError::ParameterOutOfRange { index: 2, .. })
     ));
+}
+
+/// `2*k₁…kₙ` in the polygon of `*k₁…kₙ22`: the same corners, the side between the two right
+/// angles folded at its midpoint.
+#[test]
+fn a_cone_of_order_two_and_a_mirror_fold_the_reflection_polygon() {
+    for (s, reflections) in [
+        ("2*2222", "*222222"),
+        ("2*234", "*23422"),
+        ("2*3∞", "*3∞22"),
+        ("2*∞∞", "*∞∞22"),
+        ("2*∞∞∞", "*∞∞∞22"),
+    ] {
+        let p = build(s);
+        assert_eq!(p.construction, Construction::FoldedPolygon, "{s}");
+        assert_eq!(p.missing_parameters, 0, "{s}");
+        check(&p);
+        let layout = Layout::new(&reflections.parse().unwrap(), &LayoutOptions::default()).unwrap();
+        // The same corners up to the placement: the same distances between finite ones.
+        let n = layout.vertices.len() - 2;
+        let space = p.space();
+        let mut corners: Vec<_> = p.vertices.iter().collect();
+        let mid = corners.remove(n + 1);
+        let finite = |i: usize| !layout.vertices[i].ideal;
+        for i in (0..n + 2).filter(|&i| finite(i)) {
+            for j in (0..i).filter(|&j| finite(j)) {
+                let ours = space.ambient_distance(corners[i].ambient, corners[j].ambient);
+                let (a, b) = (layout.vertices[i].position, layout.vertices[j].position);
+                let theirs = space.ambient_distance(space.to_ambient(a), space.to_ambient(b));
+                assert!((ours - theirs).abs() < 1e-9, "{s}: corners {i}, {j}");
+            }
+        }
+        let (a, b) = (corners[n].ambient, corners[n + 1].ambient);
+        let (to_a, to_b) = (
+            space.ambient_distance(a, mid.ambient),
+            space.ambient_distance(mid.ambient, b),
+        );
+        assert!(
+            (to_a - to_b).abs() < 1e-12 && to_a > 1e-3,
+            "{s}: M halves PQ"
+        );
+        let cone = p.cycles.iter().find(|c| c.vertices == [n + 1]).unwrap();
+        assert_eq!(
+            (cone.kind, cone.order),
+            (CycleKind::Cone, Order::integer(2)),
+            "{s}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Every value of every parameter in (0, ∞) gives a polygon that meets Poincaré's
+    /// conditions, for random corners (`∞` among them) of `2*k₁…kₙ`.
+    #[test]
+    fn folded_polygons_take_every_parameter(
+        orders in proptest::collection::vec(prop_oneof![2u64..7, Just(0u64)], 3..7),
+        values in proptest::collection::vec(-3.0f64..3.0, 6),
+    ) {
+        let corners: String = orders
+            .iter()
+            .map(|&k| if k == 0 { "∞".to_string() } else { k.to_string() })
+            .collect();
+        let s: OrbifoldSymbol = format!("2*{corners}").parse().unwrap();
+        let count = s.free_parameters();
+        prop_assert_eq!(count, orders.len() - 1);
+        let parameters: Vec<f64> = values[..count].iter().map(|&e| 10f64.powf(e)).collect();
+        let p = FundamentalPolygon::new(
+            &s,
+            &LayoutOptions {
+                shape: Shape::Parameters(parameters.clone()),
+                ..Default::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{s} {parameters:?}: {e}"));
+        prop_assert_eq!(p.construction, Construction::FoldedPolygon);
+        prop_assert_eq!(&p.parameters, &parameters);
+        prop_assert_eq!(p.missing_parameters, 0);
+        check(&p);
+    }
 }

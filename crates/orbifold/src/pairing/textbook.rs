@@ -1,8 +1,9 @@
 //! Textbook fundamental domains of the small families (Conway, Burgiel, Goodman-Strauss, *The
 //! Symmetries of Things*, 2008, chapters 4 and 6): lunes for `NN` and `N×`, the doubled triangle
-//! for three cones, the isosceles triangle for `k*m`, the folded triangle for `2*mn`. Each is
-//! exact where the star would be degenerate (two sectors of width π on the sphere) and has the
-//! fewest edges.
+//! for three cones, the isosceles triangle for `k*m`, the folded triangle for `2*mn`, the folded
+//! polygon for the rest of `2*k₁…kₙ`. Each is exact where the star would be degenerate (two
+//! sectors of width π on the sphere; the cone on both copies of the star's centre for
+//! `2*k₁…kₙ`) and has the fewest edges.
 
 use glam::DVec3;
 
@@ -10,8 +11,10 @@ use super::{Construction, Draft, Glue};
 use crate::conway::OrbifoldSymbol;
 use crate::cover::reflection;
 use crate::euler::Geometry;
+use crate::layout::{DEFAULT_PARAMETER, Layout, LayoutOptions, Shape};
 use crate::layout::{LayoutError, incircle};
 use crate::order::Order;
+use crate::signature::Signature;
 use crate::space::Space;
 
 /// The textbook draft of `symbol`, or `None` when its family is left to the star.
@@ -74,7 +77,7 @@ pub(crate) fn draft(
             [] => folded_on_sphere(space, Order::integer(1), parameters)?,
             [m] => folded_on_sphere(space, *m, parameters)?,
             [m, n] if !n.is_infinite() => folded(space, *m, *n, parameters)?,
-            _ => return Ok(None),
+            [_, _, ..] => folded_polygon(space, corners, parameters)?,
         },
         _ => return Ok(None),
     };
@@ -406,5 +409,69 @@ fn folded(
              order {n}); in (0, 1), default 0.5 (an isosceles triangle)"
         )],
         construction: Construction::FoldedTriangle,
+    })
+}
+
+/// `2*k₁…kₙ` (n ≥ 3, or n = 2 with an ideal second corner; always hyperbolic): the polygon of
+/// mirrors of `*k₁…kₙ22`, its side PQ between the two right angles folded about its midpoint M
+/// by a half-turn.
+///
+/// Both have the area 2π|χ| (the right angles at P and Q stand for the cone: ½·½ twice against
+/// 1 − ½), and P, Q form one cycle of angle π, a plain mirror point. Every group of the family
+/// has such a polygon: the shortest path from the cone to the mirror, followed by its image
+/// under the half-turn, meets the mirror at right angles at both ends; cutting along it gives
+/// this polygon. So the kaleidoscopic layout's n − 1 parameters, each valid in (0, ∞), are all
+/// of the family's (Thurston's −3 + 2 + n).
+fn folded_polygon(
+    space: Space,
+    corners: &[Order],
+    parameters: Option<&[f64]>,
+) -> Result<Draft, LayoutError> {
+    let two = Order::integer(2);
+    let signature = Signature::new(corners.iter().copied().chain([two, two]))
+        .map_err(|e| LayoutError::Unsupported(e.to_string()))?;
+    let options = LayoutOptions {
+        shape: parameters.map_or(Shape::Default, |p| Shape::Parameters(p.to_vec())),
+        ..LayoutOptions::default()
+    };
+    let layout = Layout::new(&signature, &options)?;
+    let n = corners.len();
+    let mut points: Vec<DVec3> = layout
+        .vertices
+        .iter()
+        .map(|v| ambient(space, v.position, v.ideal))
+        .collect();
+    let (p, q) = (points[n], points[n + 1]);
+    points.insert(n + 1, space.interpolate(p, q, 0.5));
+    let mut ideal: Vec<bool> = layout.vertices.iter().map(|v| v.ideal).collect();
+    ideal.insert(n + 1, false);
+    let mut orders = corners.to_vec();
+    orders.extend([Order::integer(1), two, Order::integer(1)]);
+    let mut glue = vec![Glue::Mirror; n + 3];
+    (glue[n], glue[n + 1]) = (paired(n + 1), paired(n));
+    // The layout's parameter j (j = 1 … n − 1) sets the distance between its walls N − 1 and
+    // j, N = n + 2; the fold splits wall n, so they are edges n + 2 and j here.
+    let meanings = (1..=layout.parameters.len())
+        .map(|j| {
+            format!(
+                "the distance between mirror edges {} and {j}, as in {signature}: its value in the \
+                 balanced (incircle) polygon times the 8th root of the parameter; in (0, ∞), \
+                 default {DEFAULT_PARAMETER} (the seed's shape; 1 is the incircle polygon)",
+                n + 2
+            )
+        })
+        .collect();
+    Ok(Draft {
+        centre: inner_point(space, &points),
+        points,
+        ideal,
+        orders,
+        walls: None,
+        neighbours: None,
+        glue,
+        meanings,
+        parameters: layout.parameters,
+        ranges: layout.parameter_ranges,
+        construction: Construction::FoldedPolygon,
     })
 }
