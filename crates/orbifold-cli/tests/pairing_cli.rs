@@ -300,7 +300,8 @@ fn pictures_mark_the_pairings() {
         .success();
     let svg = std::fs::read_to_string(&path).unwrap();
     assert_eq!(svg.matches("marker-end").count(), 6);
-    assert!(svg.contains("<polyline"));
+    // Each edge one path: an arc (or a segment in the Euclidean plane) from end to end.
+    assert_eq!(svg.matches(r#"<path d="M"#).count(), 6 + 1, "{svg}");
 }
 
 #[test]

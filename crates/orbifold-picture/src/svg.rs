@@ -568,6 +568,103 @@ impl Screen<'_> {
         let (x, y) = self.view.px(s);
         (x.is_finite() && y.is_finite()).then_some(((x, y), front))
     }
+
+    /// The pixel of ambient point `p` when it is drawn where it is: in front of the sphere, on
+    /// the plane, not pulled in from far outside the picture.
+    fn exact(&self, p: glam::DVec3) -> Option<(f64, f64)> {
+        let s = project(self.space, self.model, p)?;
+        let far = 20.0 * self.view.size / self.view.scale;
+        let (x, y) = self.view.px(s);
+        (s.norm() <= far && x.is_finite() && y.is_finite()).then_some((x, y))
+    }
+
+    /// Continues `path` (whose last point is `last`) along an edge given by its sample points
+    /// moved by `m`.
+    ///
+    /// A geodesic's image is a circle or a line in the conformal models (Poincaré disk,
+    /// half-plane, stereographic and Euclidean planes) and a line in the Klein disk, so the
+    /// circle through the images of the edge's two ends and its middle sample draws it exactly,
+    /// as an SVG arc (a segment when it bows less than `flat` pixels). On the orthographic sphere
+    /// (ellipses, cut by the rim), and where one of the three is not drawn where it is, the
+    /// samples are joined by straight segments.
+    fn trace(
+        &self,
+        path: &mut String,
+        last: &mut Option<(f64, f64)>,
+        samples: &[glam::DVec3],
+        m: glam::DMat3,
+        flat: f64,
+    ) {
+        let n = samples.len();
+        if self.model != Model::Sphere && n >= 3 {
+            let ends = [samples[0], samples[n / 2], samples[n - 1]].map(|p| self.exact(m * p));
+            if let [Some(a), Some(b), Some(c)] = ends {
+                line_to(path, last, a);
+                path.push_str(&arc_to(a, b, c, flat));
+                *last = Some(c);
+                return;
+            }
+        }
+        for &p in samples {
+            if let Some((xy, _)) = self.px(m * p) {
+                line_to(path, last, xy);
+            }
+        }
+    }
+}
+
+/// How far, in pixels, a tile's edge or a letter may bow before it is drawn as an arc rather than
+/// a segment: a quarter pixel, which keeps deep tilings' files small.
+const FLAT: f64 = 0.25;
+
+/// Continues `path` to `xy` by a straight segment: a move when the path is empty, nothing when
+/// `xy` is within half a pixel of the last point.
+fn line_to(path: &mut String, last: &mut Option<(f64, f64)>, (x, y): (f64, f64)) {
+    let command = match *last {
+        None => "M",
+        Some((lx, ly)) if (x - lx).hypot(y - ly) < 0.5 => return,
+        Some(_) => "L",
+    };
+    let _ = write!(path, "{command}{x:.1} {y:.1} ");
+    *last = Some((x, y));
+}
+
+/// The SVG command from pixel `a` to pixel `c` along the circle through `a`, `b` and `c` (the
+/// arc that contains `b`), or a straight segment when `b` lies within `flat` pixels of the chord
+/// or the circle is wider than a million pixels. A geodesic's image in a conformal model is such
+/// a circle, so three of its points draw it exactly.
+///
+/// With y down, the arc turns the positive way (SVG's sweep flag 1) when a, b, c turn
+/// counter-clockwise in pixel coordinates; it is the larger arc when the angle at b is acute
+/// (the inscribed angle at b is half the arc away from b).
+///
+/// ```
+/// use orbifold_picture::svg::arc_to;
+/// // A half circle of radius 10 through its lowest point (y down), turning the positive way.
+/// assert_eq!(arc_to((0.0, 0.0), (10.0, 10.0), (20.0, 0.0), 0.01), "A10.00 10.00 0 0 0 20.00 0.00 ");
+/// assert_eq!(arc_to((0.0, 0.0), (10.0, 0.001), (20.0, 0.0), 0.01), "L20.00 0.00 ");
+/// ```
+pub fn arc_to(a: (f64, f64), b: (f64, f64), c: (f64, f64), flat: f64) -> String {
+    let (ab, bc, ca) = (
+        (b.0 - a.0, b.1 - a.1),
+        (c.0 - b.0, c.1 - b.1),
+        (a.0 - c.0, a.1 - c.1),
+    );
+    let cross = (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0);
+    let chord = ca.0.hypot(ca.1);
+    let radius = ab.0.hypot(ab.1) * bc.0.hypot(bc.1) * chord / (2.0 * cross.abs());
+    if cross.abs() <= flat * chord || !radius.is_finite() || radius > 1e6 {
+        return format!("L{:.2} {:.2} ", c.0, c.1);
+    }
+    let large = (a.0 - b.0) * (c.0 - b.0) + (a.1 - b.1) * (c.1 - b.1) > 0.0;
+    let sweep = cross > 0.0;
+    format!(
+        "A{radius:.2} {radius:.2} 0 {} {} {:.2} {:.2} ",
+        u8::from(large),
+        u8::from(sweep),
+        c.0,
+        c.1
+    )
 }
 
 /// The model's boundary: the circle at infinity of the disks, the real axis of the half-plane,
@@ -595,10 +692,10 @@ fn draw_boundary(svg: &mut String, model: Model, view: &View) {
     }
 }
 
-/// The SVG path of a tile: its edges' points moved by `m`, clamped far outside the picture, with
-/// points closer than half a pixel to the last one dropped; `None` for a tile that lies wholly
-/// outside the picture, behind the sphere, or is under a pixel and a half across (near the
-/// circle at infinity), which keeps deep hyperbolic pictures small.
+/// The SVG path of a tile: its edges moved by `m` ([`Screen::trace`]), with points far outside
+/// the picture pulled in; `None` for a tile that lies wholly outside the picture, behind the
+/// sphere, or is under a pixel and a half across (near the circle at infinity), which keeps deep
+/// hyperbolic pictures small. Also the tile's extent in pixels.
 fn tile_outline(at: &Screen, edges: &[Vec<glam::DVec3>], m: glam::DMat3) -> Option<(String, f64)> {
     let view = at.view;
     let mut any_front = false;
@@ -624,13 +721,9 @@ fn tile_outline(at: &Screen, edges: &[Vec<glam::DVec3>], m: glam::DMat3) -> Opti
         return None;
     }
     let mut path = String::new();
-    let mut last = (f64::MAX, f64::MAX);
-    for (k, &(x, y)) in points.iter().enumerate() {
-        if (x - last.0).hypot(y - last.1) < 0.5 {
-            continue;
-        }
-        last = (x, y);
-        let _ = write!(path, "{}{x:.1} {y:.1} ", if k == 0 { "M" } else { "L" });
+    let mut last = None;
+    for edge in edges {
+        at.trace(&mut path, &mut last, edge, m, FLAT);
     }
     Some((path, extent))
 }
@@ -650,10 +743,11 @@ fn letter_strokes(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Vec<gl
         * 0.85;
     let from_origin = orbifold::isometry::Isometry::translation(space, polygon.centre).matrix();
     let ambient = |z: Complex64| from_origin * space.to_ambient(z * radius);
-    let stem = vec![
-        ambient(Complex64::new(-0.28, -0.8)),
-        ambient(Complex64::new(-0.28, 0.6)),
-    ];
+    let stem = (0..=16)
+        .map(|k| ambient(Complex64::new(-0.28, -0.8 + 1.4 * f64::from(k) / 16.0)))
+        .collect();
+    // 17 points each, the bowl's last the first again: `letter_path` draws them as arcs through
+    // three of them where it can.
     let bowl = (0..=16)
         .map(|k| {
             let t = std::f64::consts::TAU * f64::from(k) / 16.0;
@@ -664,9 +758,34 @@ fn letter_strokes(polygon: &orbifold::pairing::FundamentalPolygon) -> Vec<Vec<gl
 }
 
 /// The SVG path of the letter's strokes moved by `m` (the points in view only).
+///
+/// The stem is a segment and the bowl a circle of the model about the polygon's centre, which
+/// the isometries and the conformal models' maps (Möbius maps, similarities) carry to circles
+/// or lines: there the stem is one arc through three of its points and the bowl two.
 fn letter_path(at: &Screen, strokes: &[Vec<glam::DVec3>], m: glam::DMat3) -> String {
     let mut path = String::new();
+    let conformal = !matches!(at.model, Model::Klein | Model::Sphere);
     for stroke in strokes {
+        let closed = match (stroke.first(), stroke.last()) {
+            (Some(a), Some(b)) => a.distance(*b) < 1e-9,
+            _ => false,
+        };
+        let through: &[usize] = if closed {
+            &[0, 4, 8, 12, 16]
+        } else {
+            &[0, 8, 16]
+        };
+        if conformal && stroke.len() == 17 {
+            let points: Option<Vec<(f64, f64)>> =
+                through.iter().map(|&k| at.exact(m * stroke[k])).collect();
+            if let Some(p) = points {
+                let _ = write!(path, "M{:.1} {:.1} ", p[0].0, p[0].1);
+                for arc in p.windows(3).step_by(2) {
+                    path.push_str(&arc_to(arc[0], arc[1], arc[2], FLAT));
+                }
+                continue;
+            }
+        }
         let mut first = true;
         for &p in stroke {
             let Some(((x, y), true)) = at.px(m * p) else {
@@ -708,11 +827,12 @@ fn draw_pairings(
             EdgeKind::Mirror => ("#1f6fd1", 3.5),
             EdgeKind::Paired { .. } => ("#c0392b", 2.2),
         };
-        let line: Vec<String> = px.iter().map(|(x, y)| format!("{x:.2},{y:.2}")).collect();
+        let mut line = String::new();
+        at.trace(&mut line, &mut None, points, recentre, 0.01);
         let _ = writeln!(
             svg,
-            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##,
-            line.join(" ")
+            r##"<path d="{}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##,
+            line.trim_end()
         );
         if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
             let forward =
@@ -738,6 +858,109 @@ fn draw_pairings(
                 x + 12.0 * dx / length,
                 y + 12.0 * dy / length
             );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The centre of an SVG arc of radius r with no rotation, and its start angle and sweep,
+    /// by the conversion of the SVG specification (SVG 1.1, appendix F.6.5).
+    fn svg_arc_centre(
+        a: (f64, f64),
+        c: (f64, f64),
+        r: f64,
+        large: bool,
+        sweep: bool,
+    ) -> ((f64, f64), f64, f64) {
+        let (x1, y1) = ((a.0 - c.0) / 2.0, (a.1 - c.1) / 2.0);
+        let d2 = x1 * x1 + y1 * y1;
+        let root = ((r * r - d2) / d2).max(0.0).sqrt();
+        let sign = if large != sweep { 1.0 } else { -1.0 };
+        let (cx1, cy1) = (sign * root * y1, -sign * root * x1);
+        let centre = (cx1 + (a.0 + c.0) / 2.0, cy1 + (a.1 + c.1) / 2.0);
+        let angle = |x: f64, y: f64| y.atan2(x);
+        let theta = angle(x1 - cx1, y1 - cy1);
+        let mut delta = angle(-x1 - cx1, -y1 - cy1) - theta;
+        let tau = std::f64::consts::TAU;
+        delta = delta.rem_euclid(tau);
+        if !sweep && delta > 0.0 {
+            delta -= tau;
+        }
+        (centre, theta, delta)
+    }
+
+    fn model_and_space(which: usize) -> (Model, Space) {
+        let (model, geometry) = [
+            (Model::Poincare, Geometry::Hyperbolic),
+            (Model::Klein, Geometry::Hyperbolic),
+            (Model::HalfPlane, Geometry::Hyperbolic),
+            (Model::Stereographic, Geometry::Spherical),
+            (Model::Euclidean, Geometry::Euclidean),
+        ][which];
+        (model, Space::new(geometry))
+    }
+
+    proptest! {
+        /// An edge drawn by `Screen::trace` in a conformal model or the Klein disk is the image
+        /// of the geodesic: 17 points along it lie on the drawn arc (as SVG itself places the
+        /// arc's centre) within 0.05 pixel (the path's numbers have two decimals), or within a
+        /// tenth of a pixel of the drawn segment.
+        #[test]
+        fn edges_are_drawn_as_the_geodesics_images(
+            which in 0usize..5,
+            (r1, t1, r2, t2) in (0.0f64..0.8, 0.0f64..6.3, 0.0f64..0.8, 0.0f64..6.3),
+        ) {
+            let (model, space) = model_and_space(which);
+            let z1 = Complex64::from_polar(r1, t1);
+            let z2 = Complex64::from_polar(r2, t2);
+            prop_assume!((z1 - z2).norm() > 0.05);
+            let (p, q) = (space.to_ambient(z1), space.to_ambient(z2));
+            let samples: Vec<glam::DVec3> =
+                (0..=16).map(|k| space.interpolate(p, q, f64::from(k) / 16.0)).collect();
+            let view = View { centre: Complex64::new(0.0, 0.0), scale: 150.0, size: 400.0 };
+            let at = Screen { space, model, view: &view };
+            let mut path = String::new();
+            at.trace(&mut path, &mut None, &samples, glam::DMat3::IDENTITY, 0.01);
+            let pixels: Vec<(f64, f64)> =
+                samples.iter().map(|&s| at.exact(s).expect("in view")).collect();
+            let (a, c) = (pixels[0], pixels[16]);
+            let words: Vec<&str> = path.split_whitespace().collect();
+            if let Some(arc) = path.find('A') {
+                let numbers: Vec<f64> = path[arc + 1..]
+                    .split_whitespace()
+                    .map(|w| w.parse().unwrap())
+                    .collect();
+                let [r, _, _, large, sweep, x, y] = numbers[..] else {
+                    panic!("{path}")
+                };
+                prop_assert!((x - c.0).abs() < 0.01 && (y - c.1).abs() < 0.01, "{}", path);
+                let (centre, theta, delta) =
+                    svg_arc_centre(a, (x, y), r, large == 1.0, sweep == 1.0);
+                for &(px, py) in &pixels {
+                    let d = (px - centre.0).hypot(py - centre.1);
+                    prop_assert!((d - r).abs() < 0.05, "{:?} {}: {} off", model, path, d - r);
+                    // Within the swept angle, from the start the way the arc turns.
+                    let along = ((py - centre.1).atan2(px - centre.0) - theta)
+                        .rem_euclid(std::f64::consts::TAU);
+                    let along = if delta < 0.0 { std::f64::consts::TAU - along } else { along };
+                    // Within 0.05 pixel of the ends, as the path's numbers are rounded.
+                    let slack = 0.05 / r;
+                    let along = if along > std::f64::consts::TAU - slack { 0.0 } else { along };
+                    prop_assert!(along <= delta.abs() + slack, "{:?} {}: outside the arc", model, path);
+                }
+            } else {
+                prop_assert!(words.len() == 4 && words[2].starts_with('L'), "{}", path);
+                let (dx, dy) = (c.0 - a.0, c.1 - a.1);
+                let length = dx.hypot(dy);
+                for &(px, py) in &pixels {
+                    let off = ((px - a.0) * dy - (py - a.1) * dx).abs() / length;
+                    prop_assert!(off < 0.1, "{:?} {}: {} px off the segment", model, path, off);
+                }
+            }
         }
     }
 }

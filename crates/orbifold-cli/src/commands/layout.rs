@@ -780,21 +780,34 @@ fn paired_svg(polygon: &FundamentalPolygon, title: &str, size: u32) -> String {
         .collect();
     let letters = orbifold::pairing::pair_letters(&partners);
     for (i, (e, points)) in polygon.edges.iter().zip(&edges).enumerate() {
-        let d: Vec<String> = points
-            .iter()
-            .map(|&z| {
-                let (x, y) = px(z);
-                format!("{x:.2},{y:.2}")
-            })
-            .collect();
+        // Each edge is a geodesic, a circle or a line in these conformal models: the arc
+        // through its ends and its middle point draws it exactly.
+        let d = match points.as_slice() {
+            [] => String::new(),
+            [first, .., last] if points.len() >= 3 => {
+                let (x, y) = px(*first);
+                let middle = px(points[points.len() / 2]);
+                let arc = picture::arc_to(px(*first), middle, px(*last), 0.01);
+                format!("M{x:.2} {y:.2} {}", arc.trim_end())
+            }
+            _ => {
+                let line: Vec<String> = points
+                    .iter()
+                    .map(|&z| {
+                        let (x, y) = px(z);
+                        format!("{x:.2} {y:.2}")
+                    })
+                    .collect();
+                format!("M{}", line.join(" L"))
+            }
+        };
         let (colour, width) = match e.kind {
             EdgeKind::Mirror => ("#1f6fd1", 3.5),
             EdgeKind::Paired { .. } => ("#c0392b", 2.0),
         };
         let _ = writeln!(
             svg,
-            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##,
-            d.join(" ")
+            r##"<path d="{d}" fill="none" stroke="{colour}" stroke-width="{width}"/>"##
         );
         if let (EdgeKind::Paired { partner }, Some(letter)) = (e.kind, letters[i]) {
             let forward =
