@@ -361,3 +361,36 @@ fn hyperbolic_stars_offer_every_parameter() {
         .assert()
         .failure();
 }
+
+/// A lune's two sides join antipodes (a geodesic between them is not unique): each is drawn
+/// through its middle point, as two different arcs, one on each side of the corners.
+#[test]
+fn a_lune_is_drawn_as_two_arcs() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("55.svg");
+    orbifold()
+        .args(["layout", "55", "-o", path.to_str().unwrap()])
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(&path).unwrap();
+    let arcs: Vec<&str> = svg
+        .lines()
+        .filter(|l| l.starts_with(r#"<path d="M"#) && l.contains(" A"))
+        .collect();
+    assert_eq!(arcs.len(), 2, "{svg}");
+    // Each runs from one corner to the other and the next back, turning the same way: so they
+    // bow to opposite sides of the corners.
+    let parts = |l: &str| -> (String, String, String) {
+        let d = l.split('"').nth(1).unwrap();
+        let (start, arc) = d.trim_start_matches('M').split_once(" A").unwrap();
+        let words: Vec<&str> = arc.split(' ').collect();
+        (
+            start.into(),
+            words[4].into(),
+            format!("{} {}", words[5], words[6]),
+        )
+    };
+    let ((s0, w0, e0), (s1, w1, e1)) = (parts(arcs[0]), parts(arcs[1]));
+    assert_eq!((&s0, &e0), (&e1, &s1), "{svg}");
+    assert_eq!(w0, w1, "{svg}");
+}

@@ -373,11 +373,21 @@ pub fn mesh_svg(
     svg
 }
 
-/// Points along edge `i` of `polygon`, in ambient coordinates: finite ends by geodesic
-/// interpolation; towards an ideal end, along the Poincaré disk's geodesic from the finite end,
-/// stopping just short of the circle at infinity; a lune's side (antipodal ends) through its
-/// point nearest the centre, which lies between them.
-fn paired_edge_points(
+/// `steps` + 1 points along edge `i` of `polygon`, in ambient coordinates: finite ends by
+/// geodesic interpolation; towards an ideal end, along the Poincaré disk's geodesic from the
+/// finite end, stopping just short of the circle at infinity; a lune's side (antipodal ends)
+/// through its point nearest the centre, which lies between them (the middle point).
+///
+/// ```
+/// use orbifold::pairing::FundamentalPolygon;
+/// use orbifold_picture::svg::edge_samples;
+/// let lune = FundamentalPolygon::new(&"55".parse().unwrap(), &Default::default()).unwrap();
+/// let side = edge_samples(&lune, 0, 16);
+/// assert_eq!(side.len(), 17);
+/// // Its ends are antipodes, and its middle is a quarter turn from both.
+/// assert!((side[0] + side[16]).length() < 1e-12 && side[8].dot(side[0]).abs() < 1e-12);
+/// ```
+pub fn edge_samples(
     polygon: &orbifold::pairing::FundamentalPolygon,
     i: usize,
     steps: u32,
@@ -482,7 +492,7 @@ pub fn group_tiling_svg(
         .inverse()
         .matrix();
     let edges: Vec<Vec<glam::DVec3>> = (0..polygon.edges.len())
-        .map(|i| paired_edge_points(polygon, i, 16))
+        .map(|i| edge_samples(polygon, i, 16))
         .collect();
     let letters = letter_strokes(polygon);
     let mut svg = String::new();

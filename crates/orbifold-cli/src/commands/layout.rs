@@ -669,51 +669,16 @@ fn draw_paired(polygon: &FundamentalPolygon, path: &Path, size: u32) -> Result<(
         .map_err(|e| CliError::Input(format!("cannot write {}: {e}", path.display())))
 }
 
-/// Points along edge `e` in model coordinates: finite ends by geodesic interpolation in ambient
-/// coordinates; towards an ideal end w from z, along the Poincaré disk's geodesic
-/// ζ ↦ (ζ + z)/(1 + z̄ζ) of the segment from 0 towards (w − z)/(1 − z̄w).
-fn edge_points(polygon: &FundamentalPolygon, e: &pairing::Edge) -> Vec<Complex64> {
-    let space = polygon.space();
-    let (Some(a), Some(b)) = (e.from, e.to) else {
-        return Vec::new();
-    };
-    let (a, b) = (polygon.vertices[a], polygon.vertices[b]);
-    let steps = 48;
-    let towards_ideal = |z: Complex64, w: Complex64| {
-        let d = (w - z) / (1.0 - z.conj() * w);
-        (0..=steps)
-            .map(|k| {
-                let t = 0.999 * f64::from(k) / f64::from(steps);
-                let zeta = d * t;
-                (zeta + z) / (1.0 + z.conj() * zeta)
-            })
-            .collect::<Vec<_>>()
-    };
-    match (a.ideal, b.ideal) {
-        (false, false) => (0..=steps)
-            .map(|k| {
-                let t = f64::from(k) / f64::from(steps);
-                space.to_model(space.interpolate(a.ambient, b.ambient, t))
-            })
-            .collect(),
-        (false, true) => towards_ideal(a.position, b.position),
-        (true, false) => {
-            let mut p = towards_ideal(b.position, a.position);
-            p.reverse();
-            p
-        }
-        (true, true) => vec![a.position, b.position],
-    }
-}
-
 /// The polygon in its model: mirrors in blue, paired edges in red with matching letters and
 /// arrows (an edge and its partner carry the same letter; the arrows show which way the pairing
 /// glues them, as in textbooks), vertices coloured by their cycle's kind.
 fn paired_svg(polygon: &FundamentalPolygon, title: &str, size: u32) -> String {
-    let edges: Vec<Vec<Complex64>> = polygon
-        .edges
-        .iter()
-        .map(|e| edge_points(polygon, e))
+    let space = polygon.space();
+    let edges: Vec<Vec<Complex64>> = (0..polygon.edges.len())
+        .map(|i| {
+            let points = picture::edge_samples(polygon, i, 48);
+            points.iter().map(|&p| space.to_model(p)).collect()
+        })
         .collect();
     let all: Vec<Complex64> = edges.iter().flatten().copied().collect();
     let hyperbolic = polygon.geometry == orbifold::Geometry::Hyperbolic;
