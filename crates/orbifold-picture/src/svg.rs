@@ -594,9 +594,10 @@ impl Screen<'_> {
     /// A geodesic's image is a circle or a line in the conformal models (Poincaré disk,
     /// half-plane, stereographic and Euclidean planes) and a line in the Klein disk, so the
     /// circle through the images of the edge's two ends and its middle sample draws it exactly,
-    /// as an SVG arc (a segment when it bows less than `flat` pixels). On the orthographic sphere
-    /// (ellipses, cut by the rim), and where one of the three is not drawn where it is, the
-    /// samples are joined by straight segments.
+    /// as an SVG arc (a segment when it bows less than `flat` pixels). On the orthographic sphere a
+    /// great circle's image is an ellipse: an edge wholly in front is its elliptical arc. Where
+    /// the rim cuts an edge, or one of the three points is not drawn where it is, the samples
+    /// are joined by straight segments.
     fn trace(
         &self,
         path: &mut String,
@@ -606,11 +607,22 @@ impl Screen<'_> {
         flat: f64,
     ) {
         let n = samples.len();
-        if self.model != Model::Sphere && n >= 3 {
-            let ends = [samples[0], samples[n / 2], samples[n - 1]].map(|p| self.exact(m * p));
-            if let [Some(a), Some(b), Some(c)] = ends {
+        if n >= 3 {
+            let three = [samples[0], samples[n / 2], samples[n - 1]].map(|p| m * p);
+            let ends = three.map(|p| self.exact(p));
+            // On the sphere the whole edge must be in front, or the rim cuts it.
+            let front = self.model != Model::Sphere
+                || samples
+                    .iter()
+                    .all(|&p| project(self.space, self.model, m * p).is_some());
+            if let ([Some(a), Some(b), Some(c)], true) = (ends, front) {
                 line_to(path, last, a);
-                path.push_str(&arc_to(a, b, c, flat));
+                let arc = if self.model == Model::Sphere {
+                    self.great_circle_arc(three, (a, b, c), flat)
+                } else {
+                    arc_to(a, b, c, flat)
+                };
+                path.push_str(&arc);
                 *last = Some(c);
                 return;
             }
@@ -620,6 +632,47 @@ impl Screen<'_> {
                 line_to(path, last, xy);
             }
         }
+    }
+
+    /// The SVG elliptical arc, on the orthographic sphere, from pixel `a` to `c` through `b`:
+    /// the images of three points `on` of one great circle.
+    ///
+    /// The circle's plane has the normal n = p × q. Its image is the ellipse with the major
+    /// axis along e₁ = n × ẑ (a diameter in the picture's plane, seen at full length) and the
+    /// minor axis |n_z| times as long (the diameter e₂ = n × e₁, foreshortened). Stretching the
+    /// picture along the minor axis turns the ellipse into a circle, and the arc's flags are
+    /// those of the circle's arc there ([`arc_to`]; the stretch keeps the turning sense).
+    fn great_circle_arc(
+        &self,
+        on: [glam::DVec3; 3],
+        (a, b, c): ((f64, f64), (f64, f64), (f64, f64)),
+        flat: f64,
+    ) -> String {
+        let normal = on[0].cross(on[1]).normalize();
+        let axis = glam::DVec3::new(normal.y, -normal.x, 0.0);
+        let squash = normal.z.abs();
+        if !(axis.length() > 1e-9 && squash * self.view.scale > flat) {
+            return format!("L{:.2} {:.2} ", c.0, c.1);
+        }
+        let axis = axis / axis.length();
+        // The major axis on screen (y down), and the stretched coordinates of the three pixels.
+        let (ux, uy) = (axis.x, -axis.y);
+        let stretch = |(x, y): (f64, f64)| {
+            let (dx, dy) = (x - a.0, y - a.1);
+            (dx * ux + dy * uy, (dy * ux - dx * uy) / squash)
+        };
+        let circle = arc_to(stretch(a), stretch(b), stretch(c), flat);
+        let Some(flags) = circle.strip_prefix('A') else {
+            return format!("L{:.2} {:.2} ", c.0, c.1);
+        };
+        let words: Vec<&str> = flags.split_whitespace().collect();
+        let (large, sweep) = (words[3], words[4]);
+        let (rx, ry) = (self.view.scale, self.view.scale * squash);
+        let rotation = uy.atan2(ux).to_degrees();
+        format!(
+            "A{rx:.2} {ry:.2} {rotation:.2} {large} {sweep} {:.2} {:.2} ",
+            c.0, c.1
+        )
     }
 }
 
@@ -915,6 +968,58 @@ mod tests {
     }
 
     proptest! {
+        /// On the orthographic sphere an edge wholly in front is drawn as its great circle's
+        /// elliptical arc: undoing the arc's rotation and radii (as the SVG specification does,
+        /// appendix F.6.5) puts 17 points of the geodesic on the unit circle, within the swept
+        /// angle, to 0.05 pixel.
+        #[test]
+        fn front_edges_on_the_sphere_are_elliptical_arcs(
+            (x1, y1, x2, y2) in (-0.7f64..0.7, -0.7f64..0.7, -0.7f64..0.7, -0.7f64..0.7),
+        ) {
+            let space = Space::new(Geometry::Spherical);
+            let front = |x: f64, y: f64| glam::DVec3::new(x, y, (1.0 - x * x - y * y).sqrt());
+            let (p, q) = (front(x1, y1), front(x2, y2));
+            prop_assume!(p.distance(q) > 0.05);
+            let samples: Vec<glam::DVec3> =
+                (0..=16).map(|k| space.interpolate(p, q, f64::from(k) / 16.0)).collect();
+            let view = View { centre: Complex64::new(0.0, 0.0), scale: 150.0, size: 400.0 };
+            let at = Screen { space, model: Model::Sphere, view: &view };
+            let mut path = String::new();
+            at.trace(&mut path, &mut None, &samples, glam::DMat3::IDENTITY, 0.01);
+            let pixels: Vec<(f64, f64)> =
+                samples.iter().map(|&s| at.exact(s).expect("in front")).collect();
+            let Some(arc) = path.find('A') else {
+                // Seen edge on: a segment through the centre's image.
+                let (a, c) = (pixels[0], pixels[16]);
+                let (dx, dy) = (c.0 - a.0, c.1 - a.1);
+                for &(px, py) in &pixels {
+                    let off = ((px - a.0) * dy - (py - a.1) * dx).abs() / dx.hypot(dy);
+                    prop_assert!(off < 0.1, "{}: {} px off", path, off);
+                }
+                return Ok(());
+            };
+            let numbers: Vec<f64> =
+                path[arc + 1..].split_whitespace().map(|w| w.parse().unwrap()).collect();
+            let [rx, ry, rotation, large, sweep, x, y] = numbers[..] else { panic!("{path}") };
+            let (sin, cos) = rotation.to_radians().sin_cos();
+            let unit = |(px, py): (f64, f64)| {
+                ((px * cos + py * sin) / rx, (-px * sin + py * cos) / ry)
+            };
+            let (centre, theta, delta) =
+                svg_arc_centre(unit(pixels[0]), unit((x, y)), 1.0, large == 1.0, sweep == 1.0);
+            let slack = 0.05 / ry;
+            for &pixel in &pixels {
+                let (ux, uy) = unit(pixel);
+                let d = (ux - centre.0).hypot(uy - centre.1);
+                prop_assert!((d - 1.0).abs() < slack, "{}: {} off the ellipse", path, d - 1.0);
+                let along = ((uy - centre.1).atan2(ux - centre.0) - theta)
+                    .rem_euclid(std::f64::consts::TAU);
+                let along = if delta < 0.0 { std::f64::consts::TAU - along } else { along };
+                let along = if along > std::f64::consts::TAU - slack { 0.0 } else { along };
+                prop_assert!(along <= delta.abs() + slack, "{}: outside the arc", path);
+            }
+        }
+
         /// An edge drawn by `Screen::trace` in a conformal model or the Klein disk is the image
         /// of the geodesic: 17 points along it lie on the drawn arc (as SVG itself places the
         /// arc's centre) within 0.05 pixel (the path's numbers have two decimals), or within a
