@@ -193,6 +193,10 @@ struct Search {
     /// otherwise. Only the lower of two such edges is expanded, and a child reached across one
     /// faces its parent across both.
     twin: Vec<u32>,
+    /// `beside[f·n + i]`: whether edges f and i meet at a vertex with three tiles round it. The
+    /// child across i of a tile entered across f is then a neighbour of the parent as well, so
+    /// no deeper than the tile itself: not new.
+    beside: Vec<bool>,
     centre: DVec3,
     /// ‖O‖₂.
     centre_length: f64,
@@ -226,6 +230,7 @@ impl Search {
             .collect();
         let defect = defect(polygon, &generators);
         let twin = twins(polygon, &generators, defect);
+        let beside = beside_in_threes(polygon);
         let centre = polygon.centre_ambient();
         let delta = polygon.clearance();
         let diameter = polygon
@@ -254,6 +259,7 @@ impl Search {
             generators,
             facing,
             twin,
+            beside,
             centre,
             centre_length: centre.length(),
             centre_planar: centre.truncate().length(),
@@ -474,7 +480,9 @@ impl Search {
                 // Across the edge it faces its parent by lies the parent; a half-turn's second
                 // edge gives the first one's children again.
                 let twin = self.twin[i];
-                if i as u32 == *facing || twin == *facing || twin < i as u32 {
+                let beside = *facing != u32::MAX
+                    && self.beside[*facing as usize * self.generators.len() + i];
+                if i as u32 == *facing || twin == *facing || twin < i as u32 || beside {
                     continue;
                 }
                 // The image of O first (N·O is precomputed); the matrix only for a new tile.
@@ -523,6 +531,36 @@ fn twins(polygon: &FundamentalPolygon, generators: &[DMat3], defect: f64) -> Vec
             _ => i as u32,
         })
         .collect()
+}
+
+/// For each pair of edges (f, i), whether they meet at a vertex whose cycle has three tiles round
+/// it in the tiling ([`Search::beside`]): k tiles per corner of a closed cycle of order k, 2k per
+/// corner of a cycle on a mirror.
+fn beside_in_threes(polygon: &FundamentalPolygon) -> Vec<bool> {
+    let n = polygon.edges.len();
+    let mut beside = vec![false; n * n];
+    for cycle in &polygon.cycles {
+        let Some(k) = cycle.order.as_integer() else {
+            continue;
+        };
+        let per_corner = if cycle.closed { k } else { 2 * k };
+        if cycle.kind == super::CycleKind::Ideal || per_corner * cycle.vertices.len() as u64 != 3 {
+            continue;
+        }
+        for &v in &cycle.vertices {
+            let at_v = |&j: &usize| {
+                let e = &polygon.edges[j];
+                e.from == Some(v) || e.to == Some(v)
+            };
+            let edges: Vec<usize> = (0..n).filter(at_v).collect();
+            for &f in &edges {
+                for &i in edges.iter().filter(|&&i| i != f) {
+                    beside[f * n + i] = true;
+                }
+            }
+        }
+    }
+    beside
 }
 
 /// The generators' measured defect: pairings against their partners' inverses, mirrors against
@@ -768,6 +806,32 @@ mod tests {
                         && square.abs_diff_eq(DMat3::IDENTITY, 1e-9),
                     "{s}: edge {i}"
                 );
+            }
+        }
+    }
+
+    /// Only the two edges at a vertex with three tiles round it are beside each other: `632`'s
+    /// and `2223`'s cones of order 3 (vertices 2 and 7), and no vertex of `oo` (eight tiles round
+    /// its one vertex) nor of `*236` (six round each corner of order 3).
+    #[test]
+    fn edges_beside_each_other_round_three_tiles() {
+        for (s, pairs) in [
+            ("632", vec![(1, 2)]),
+            ("2223", vec![(6, 7)]),
+            ("oo", vec![]),
+            ("*236", vec![]),
+        ] {
+            let p = polygon(s);
+            let n = p.edges.len();
+            let beside = beside_in_threes(&p);
+            let marked: Vec<(usize, usize)> = (0..n * n)
+                .filter(|&k| beside[k])
+                .map(|k| (k / n, k % n))
+                .filter(|(f, i)| f < i)
+                .collect();
+            assert_eq!(marked, pairs, "{s}");
+            for (f, i) in pairs {
+                assert!(beside[i * n + f], "{s}: both ways");
             }
         }
     }
