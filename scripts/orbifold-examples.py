@@ -26,6 +26,7 @@ SPHERICAL = [
 HYPERBOLIC = [
     ("four-cones", "2223"), ("cone-and-mirror", "4*3"), ("mirror-and-cross-cap", "*2×"),
     ("cone-and-two-cross-caps", "2××"), ("genus-two", "oo"),
+    ("cone-of-order-two-and-a-mirror", "2*2222"),
 ]
 ASCII = {"*": "s", "×": "x", "∞": "inf"}
 
@@ -56,7 +57,10 @@ def scene(binary, symbol, title, comment):
     letter = c + away * abs(near - c) * 0.25
     yaw = math.degrees(math.atan2((letter - eye).imag, (letter - eye).real))
     size = min(0.35, 0.5 * abs(near - c)) if data["geometry"] != "euclidean" else 0.3
-    return f"""# {title}: the orbifold {symbol} ({data.get('construction', 'kaleidoscopic')} polygon). {comment}
+    construction = data.get("construction", "kaleidoscopic")
+    if not construction.endswith("polygon"):
+        construction += " polygon"
+    return f"""# {title}: the orbifold {symbol} ({construction}). {comment}
 # Written by scripts/orbifold-examples.py.
 
 [orbifold]
