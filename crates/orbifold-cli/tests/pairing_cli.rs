@@ -194,7 +194,7 @@ fn every_wallpaper_group_has_a_polygon_with_pairings() {
 fn spherical_and_hyperbolic_families() {
     for s in [
         "532", "432", "332", "3*2", "2*5", "5*", "5×", "55", "225", "×", "2223", "4*3", "*2×",
-        "××", "oo", "237", "23∞", "2*34", "***", "×××", "3333",
+        "××", "oo", "237", "23∞", "2*34", "***", "×××", "3333", "2*2222", "2*3∞",
     ] {
         let v = check_layout(s);
         if let Some(area) = v["area"].as_f64()
@@ -332,6 +332,9 @@ fn hyperbolic_stars_offer_every_parameter() {
         ("o*2", "1.01,0.99,1.019,0.985"),
         ("2223", "1.015,0.985"),
         ("*2×", "1.019"),
+        // The folded polygon of mirrors takes any positive values, far from the default too.
+        ("2*2222", "0.01,50,3"),
+        ("2*3∞", "20"),
     ] {
         let v = check_layout(s);
         let count = params.split(',').count();
