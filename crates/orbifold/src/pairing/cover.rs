@@ -327,10 +327,12 @@ impl Search {
                 _ => u128::MAX,
             };
             // Room for the next layer at the last layers' rate of growth, so that the table
-            // grows once per layer rather than doubling several times on the way.
+            // grows once per layer rather than doubling several times on the way; never more
+            // than a layer the memory budget allows.
             let growth = layer.len() as f64 / previous.max(1) as f64;
             let expected = (layer.len() as f64 * growth.max(1.0) * 1.25) as u128;
-            grid.cells.reserve(expected.min(room).min(1 << 24) as usize);
+            let most = MEMORY_BUDGET / (3 * bytes_per_tile);
+            grid.cells.reserve(expected.min(room).min(most) as usize);
             previous = layer.len();
             let Some(next) = self.expand(&layer, &mut grid, depth + 1, room)? else {
                 break;
