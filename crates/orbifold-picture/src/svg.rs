@@ -661,17 +661,17 @@ impl Screen<'_> {
             let (dx, dy) = (x - a.0, y - a.1);
             (dx * ux + dy * uy, (dy * ux - dx * uy) / squash)
         };
-        let circle = arc_to(stretch(a), stretch(b), stretch(c), flat);
-        let Some(flags) = circle.strip_prefix('A') else {
+        let Some(arc) = circle_arc(stretch(a), stretch(b), stretch(c), flat) else {
             return format!("L{:.2} {:.2} ", c.0, c.1);
         };
-        let words: Vec<&str> = flags.split_whitespace().collect();
-        let (large, sweep) = (words[3], words[4]);
         let (rx, ry) = (self.view.scale, self.view.scale * squash);
         let rotation = uy.atan2(ux).to_degrees();
         format!(
-            "A{rx:.2} {ry:.2} {rotation:.2} {large} {sweep} {:.2} {:.2} ",
-            c.0, c.1
+            "A{rx:.2} {ry:.2} {rotation:.2} {} {} {:.2} {:.2} ",
+            u8::from(arc.large),
+            u8::from(arc.sweep),
+            c.0,
+            c.1
         )
     }
 }
@@ -708,6 +708,30 @@ fn line_to(path: &mut String, last: &mut Option<(f64, f64)>, (x, y): (f64, f64))
 /// assert_eq!(arc_to((0.0, 0.0), (10.0, 0.001), (20.0, 0.0), 0.01), "L20.00 0.00 ");
 /// ```
 pub fn arc_to(a: (f64, f64), b: (f64, f64), c: (f64, f64), flat: f64) -> String {
+    match circle_arc(a, b, c, flat) {
+        Some(arc) => format!(
+            "A{r:.2} {r:.2} 0 {} {} {:.2} {:.2} ",
+            u8::from(arc.large),
+            u8::from(arc.sweep),
+            c.0,
+            c.1,
+            r = arc.radius
+        ),
+        None => format!("L{:.2} {:.2} ", c.0, c.1),
+    }
+}
+
+/// The circle through three pixels, as an SVG arc from the first to the third sees it.
+struct CircleArc {
+    radius: f64,
+    /// The arc through the middle pixel is the larger one.
+    large: bool,
+    /// It turns the positive way (y down).
+    sweep: bool,
+}
+
+/// The arc from `a` to `c` through `b` ([`arc_to`]), or `None` where a segment draws it.
+fn circle_arc(a: (f64, f64), b: (f64, f64), c: (f64, f64), flat: f64) -> Option<CircleArc> {
     let (ab, bc, ca) = (
         (b.0 - a.0, b.1 - a.1),
         (c.0 - b.0, c.1 - b.1),
@@ -717,17 +741,13 @@ pub fn arc_to(a: (f64, f64), b: (f64, f64), c: (f64, f64), flat: f64) -> String 
     let chord = ca.0.hypot(ca.1);
     let radius = ab.0.hypot(ab.1) * bc.0.hypot(bc.1) * chord / (2.0 * cross.abs());
     if cross.abs() <= flat * chord || !radius.is_finite() || radius > 1e6 {
-        return format!("L{:.2} {:.2} ", c.0, c.1);
+        return None;
     }
-    let large = (a.0 - b.0) * (c.0 - b.0) + (a.1 - b.1) * (c.1 - b.1) > 0.0;
-    let sweep = cross > 0.0;
-    format!(
-        "A{radius:.2} {radius:.2} 0 {} {} {:.2} {:.2} ",
-        u8::from(large),
-        u8::from(sweep),
-        c.0,
-        c.1
-    )
+    Some(CircleArc {
+        radius,
+        large: (a.0 - b.0) * (c.0 - b.0) + (a.1 - b.1) * (c.1 - b.1) > 0.0,
+        sweep: cross > 0.0,
+    })
 }
 
 /// The model's boundary: the circle at infinity of the disks, the real axis of the half-plane,
