@@ -25,8 +25,8 @@
 //! one of length d − 1, d or d + 1 (the generators are closed under inverses).
 
 use glam::{DMat3, DVec3};
-use rustc_hash::FxHashMap;
-use std::collections::hash_map::Entry;
+use hashbrown::HashTable;
+use hashbrown::hash_table::Entry;
 
 use super::{EdgeKind, FundamentalPolygon};
 use crate::conway::OrbifoldSymbol;
@@ -165,7 +165,7 @@ fn spectral(space: Space, m: &DMat3) -> f64 {
     value * (1.0 + 1e-12)
 }
 
-/// A tile in the search: its matrix, the image of the centre, and a bound on ‖M̃ − M‖∞, the
+/// A tile in the search: its matrix, the image of the centre, and a bound on ‖M̃ − M‖₂, the
 /// distance of its computed matrix from the exact group element.
 #[derive(Clone, Copy)]
 struct Node {
@@ -177,6 +177,16 @@ struct Node {
     shift: f64,
 }
 
+/// A tile of a layer: its node, the edge across which it was reached (`u32::MAX` for the base),
+/// and the mask ([`edge_bit`]) of the edges whose neighbour is already known: its parent's, and
+/// those across which a tile of the search has found it.
+#[derive(Clone, Copy)]
+struct LayerTile {
+    node: Node,
+    facing: u32,
+    known: u64,
+}
+
 struct Search {
     space: Space,
     generators: Vec<DMat3>,
@@ -186,6 +196,9 @@ struct Search {
     /// faces the parent.
     generator_norms: Vec<f64>,
     facing: Vec<u32>,
+    /// For each generator, the mask of the child's edges that face its parent: `facing` and
+    /// that edge's twin.
+    facing_mask: Vec<u64>,
     /// For each generator, the length of its translation column (E²).
     generator_shifts: Vec<f64>,
     /// For each edge, the other edge whose generator is the same group element: the partner
@@ -197,6 +210,10 @@ struct Search {
     /// child across i of a tile entered across f is then a neighbour of the parent as well, so
     /// no deeper than the tile itself: not new.
     beside: Vec<bool>,
+    /// `beside` as masks ([`edge_bit`]): for each edge f, the edges i beside it.
+    beside_mask: Vec<u64>,
+    /// The mask of the edges that are expanded at all: every edge but a half-turn's second.
+    expanded: u64,
     centre: DVec3,
     /// ‖O‖₂.
     centre_length: f64,
@@ -219,7 +236,7 @@ impl Search {
     fn new(polygon: &FundamentalPolygon, bound: Bound, keep: bool) -> Self {
         let space = polygon.space();
         let generators: Vec<DMat3> = polygon.edges.iter().map(|e| e.neighbour).collect();
-        let facing = polygon
+        let facing: Vec<u32> = polygon
             .edges
             .iter()
             .enumerate()
@@ -230,7 +247,24 @@ impl Search {
             .collect();
         let defect = defect(polygon, &generators);
         let twin = twins(polygon, &generators, defect);
+        let facing_mask = facing
+            .iter()
+            .map(|&f: &u32| edge_bit(f as usize) | edge_bit(twin[f as usize] as usize))
+            .collect();
         let beside = beside_in_threes(polygon);
+        let n = generators.len();
+        let beside_mask = (0..n)
+            .map(|f| {
+                (0..n)
+                    .filter(|&i| beside[f * n + i])
+                    .map(edge_bit)
+                    .fold(0, |m, b| m | b)
+            })
+            .collect();
+        let expanded = (0..n)
+            .filter(|&i| twin[i] >= i as u32)
+            .map(edge_bit)
+            .fold(0, |m, b| m | b);
         let centre = polygon.centre_ambient();
         let delta = polygon.clearance();
         let diameter = polygon
@@ -258,8 +292,11 @@ impl Search {
             defect,
             generators,
             facing,
+            facing_mask,
             twin,
             beside,
+            beside_mask,
+            expanded,
             centre,
             centre_length: centre.length(),
             centre_planar: centre.truncate().length(),
@@ -291,12 +328,22 @@ impl Search {
             ));
         }
         let bytes_per_tile =
-            (std::mem::size_of::<(Node, u32)>() + std::mem::size_of::<(Cell, Image)>() + 8) as u128;
+            (std::mem::size_of::<LayerTile>() + std::mem::size_of::<Image>() + 8) as u128;
         // One grid holds the last two layers and the one being built; the layer before those
         // is evicted before each expansion (a word of length d + 1 equals none shorter than d − 1).
         let mut grid = Grid::new(cell);
-        grid.insert_new(base.point, 0.0, self.separation, 0);
-        let mut layer = vec![(base, u32::MAX)];
+        let image = Image {
+            point: base.point,
+            depth: 0,
+            index: 0,
+            hash: 0,
+        };
+        grid.insert(image, 0.0);
+        let mut layer = vec![LayerTile {
+            node: base,
+            facing: u32::MAX,
+            known: 0,
+        }];
         let mut previous = 1;
         let mut depth = 0usize;
         let mut total = 0u128;
@@ -332,9 +379,9 @@ impl Search {
             let growth = layer.len() as f64 / previous.max(1) as f64;
             let expected = (layer.len() as f64 * growth.max(1.0) * 1.25) as u128;
             let most = MEMORY_BUDGET / (3 * bytes_per_tile);
-            grid.cells.reserve(expected.min(room).min(most) as usize);
+            grid.reserve(expected.min(room).min(most) as usize);
             previous = layer.len();
-            let Some(next) = self.expand(&layer, &mut grid, depth + 1, room)? else {
+            let Some(next) = self.expand(&mut layer, &mut grid, depth + 1, room)? else {
                 break;
             };
             layer = next;
@@ -383,7 +430,7 @@ impl Search {
         (error, shift, point_error)
     }
 
-    fn record(&mut self, layer: &[(Node, u32)], depth: usize) {
+    fn record(&mut self, layer: &[LayerTile], depth: usize) {
         let mut count = 0;
         // Distances from O grow with the chord ⟨p − O, p − O⟩: compare chords, and take one
         // distance per layer for the farthest tile.
@@ -405,7 +452,10 @@ impl Search {
         };
         let mut widest = 0.0f64;
         let mut farthest = None;
-        for (node, edge) in layer {
+        for LayerTile {
+            node, facing: edge, ..
+        } in layer
+        {
             let c = chord(node.point);
             if c > widest || farthest.is_none() {
                 widest = c;
@@ -437,75 +487,115 @@ impl Search {
     /// One pass in the layer's order: each child is looked up and, when new, stored at once.
     /// (Looking the children up on all cores first and storing them in order afterwards, with
     /// the grid sharded among the cores or not, was slower on two cores: docs/cover.md.)
+    ///
+    /// A lookup that finds a tile of this layer or the next marks on that tile the edge that
+    /// faces the parent ([`LayerTile::known`]), so that the same pair of tiles is not looked up
+    /// again from the other side: each edge between tiles of the search is looked up once.
     fn expand(
         &self,
-        layer: &[(Node, u32)],
+        layer: &mut [LayerTile],
         grid: &mut Grid,
         depth: usize,
         room: u128,
-    ) -> Result<Option<Vec<(Node, u32)>>, CoverError> {
-        let mut next = Vec::with_capacity(layer.len() * 2);
-        let (separation, stamp) = (self.separation, depth as u32);
-        self.each_child(layer, depth, |parent, i, child, point_error| {
-            if grid.insert_new(child.point, point_error, separation, stamp) {
-                let node = Node {
-                    matrix: parent.matrix * self.generators[i],
-                    ..child
-                };
-                next.push((node, self.facing[i]));
-            }
-            next.len() as u128 <= room
-        })?;
-        Ok((next.len() as u128 <= room).then_some(next))
-    }
-
-    /// Calls `found` with each parent, generator and child of the layer other than the child's
-    /// own parent, the child's image of the centre and error bounds filled in (its matrix not
-    /// yet), and the bound on its image's error, until `found` returns false.
-    fn each_child(
-        &self,
-        layer: &[(Node, u32)],
-        depth: usize,
-        mut found: impl FnMut(&Node, usize, Node, f64) -> bool,
-    ) -> Result<(), CoverError> {
+    ) -> Result<Option<Vec<LayerTile>>, CoverError> {
+        let mut next: Vec<LayerTile> = Vec::with_capacity(layer.len() * 2);
+        let stamp = depth as u32;
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
         let bounded = self.reach.is_finite();
-        for (parent, facing) in layer {
+        let n = self.generators.len();
+        for index in 0..layer.len() {
+            let LayerTile {
+                node: parent,
+                facing,
+                known,
+            } = layer[index];
             if bounded && self.distance(parent.point) > self.reach {
                 continue;
             }
-            let p_norm = spectral(self.space, &parent.matrix);
+            let p_norm = self.parent_norm(&parent);
             let shift_p = parent.matrix.z_axis.truncate().length();
-            for i in 0..self.generators.len() {
-                // Across the edge it faces its parent by lies the parent; a half-turn's second
-                // edge gives the first one's children again.
-                let twin = self.twin[i];
-                let beside = *facing != u32::MAX
-                    && self.beside[*facing as usize * self.generators.len() + i];
-                if i as u32 == *facing || twin == *facing || twin < i as u32 || beside {
-                    continue;
-                }
+            // The edges to look across, as a mask rather than a test per edge, whose outcome
+            // varies from tile to tile: not a known neighbour (the parent among them), not a
+            // half-turn's second edge (it gives the first one's children again), not beside
+            // the parent round a vertex of three (that tile is no deeper than this one).
+            let beside = self.beside_mask.get(facing as usize).copied().unwrap_or(0);
+            let mut todo = self.expanded & !known & !beside;
+            let mut wide = 64..n;
+            loop {
+                let i = if todo != 0 {
+                    let i = todo.trailing_zeros() as usize;
+                    todo &= todo - 1;
+                    i
+                } else if let Some(i) = wide.next() {
+                    let besides = facing != u32::MAX && self.beside[facing as usize * n + i];
+                    if self.twin[i] < i as u32 || besides {
+                        continue;
+                    }
+                    i
+                } else {
+                    break;
+                };
                 // The image of O first (N·O is precomputed); the matrix only for a new tile.
                 let point = parent.matrix * self.images[i];
-                let (error, shift, point_error) = self.propagate(parent, p_norm, shift_p, i);
+                let (error, shift, point_error) = self.propagate(&parent, p_norm, shift_p, i);
                 if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
-                let child = Node {
-                    matrix: DMat3::ZERO,
+                let faces_parent = self.facing_mask[i];
+                let image = Image {
                     point,
-                    error,
-                    shift,
+                    depth: stamp,
+                    index: next.len() as u32,
+                    hash: 0,
                 };
-                if !found(parent, i, child, point_error) {
-                    return Ok(());
+                match grid.insert(image, point_error) {
+                    None => {
+                        let node = Node {
+                            matrix: parent.matrix * self.generators[i],
+                            point,
+                            error,
+                            shift,
+                        };
+                        next.push(LayerTile {
+                            node,
+                            facing: self.facing[i],
+                            known: faces_parent,
+                        });
+                        if next.len() as u128 > room {
+                            return Ok(None);
+                        }
+                    }
+                    Some(found) if found.depth == stamp => {
+                        next[found.index as usize].known |= faces_parent;
+                    }
+                    Some(found) if found.depth + 1 == stamp => {
+                        layer[found.index as usize].known |= faces_parent;
+                    }
+                    Some(_) => {}
                 }
             }
         }
-        Ok(())
+        Ok(Some(next))
     }
+
+    /// A bound on ‖P‖₂ for the computed matrix of a tile: on the sphere and in E² (its linear
+    /// part) 1 plus its error bound, as the exact matrix is orthogonal; on the hyperboloid from
+    /// the matrix itself ([`spectral`]).
+    fn parent_norm(&self, parent: &Node) -> f64 {
+        if self.space.kappa() < 0.0 {
+            spectral(self.space, &parent.matrix)
+        } else {
+            (1.0 + parent.error) * (1.0 + 1e-12)
+        }
+    }
+}
+
+/// The bit of edge `i` in a tile's mask of known neighbours; none beyond 64 edges, whose
+/// neighbours are then always looked up.
+fn edge_bit(i: usize) -> u64 {
+    if i < 64 { 1 << i } else { 0 }
 }
 
 /// For each edge, the edge whose generator is the same group element ([`Search::twin`]).
@@ -619,31 +709,42 @@ fn floor(v: f64) -> (i64, f64) {
 #[derive(Clone, Copy, PartialEq, Eq)]
 struct Cell(i64, i64, i64);
 
-impl std::hash::Hash for Cell {
-    /// One word, mixed from the three: the grid's cells are consecutive integers, often with
-    /// one coordinate constant (E²), which hashing them word by word spreads poorly.
-    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+impl Cell {
+    /// The table's hash of the cell: the three coordinates mixed into one word, its low bits
+    /// (which pick the bucket) as well mixed as its high ones (the tag). The grid's cells are
+    /// consecutive integers, often with one coordinate constant (E²).
+    fn hash(self) -> u64 {
         let h = (self.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
             ^ (self.1 as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
             ^ (self.2 as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
-        state.write_u64(h ^ (h >> 32));
+        let h = (h ^ (h >> 29)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        h ^ (h >> 32)
     }
 }
 
-/// An image of the centre stored in the grid, with its tile's depth.
+/// An image of the centre stored in the grid, with its tile's depth, its index in its layer,
+/// and its cell's hash (so that growing the table does not locate every image again).
 #[derive(Clone, Copy)]
 struct Image {
     point: DVec3,
     depth: u32,
+    index: u32,
+    hash: u64,
 }
 
 /// Images of the centre in cells of a grid in ambient ℝ³. Cells are σ/2 wide, so their
 /// diagonal (√3·σ/2) is shorter than the separation σ of distinct images: a cell holds at most
 /// one image.
+///
+/// The table holds the images under their cells' hashes, without the cells: an image found
+/// under a cell's hash is the same tile's exactly when it lies within σ/2 (images of one tile
+/// lie within σ/8, of distinct tiles beyond 7σ/8), whichever cell it lies in.
 struct Grid {
     /// 1 / cell: the cells are found by multiplying, not dividing.
     inverse: f64,
-    cells: FxHashMap<Cell, Image>,
+    /// (σ/2)²: images closer than this are the same tile's.
+    same: f64,
+    cells: HashTable<Image>,
     /// The largest error bound of a stored image.
     error: f64,
 }
@@ -652,9 +753,15 @@ impl Grid {
     fn new(cell: f64) -> Self {
         Grid {
             inverse: 1.0 / cell,
-            cells: FxHashMap::default(),
+            same: cell * cell,
+            cells: HashTable::new(),
             error: 0.0,
         }
+    }
+
+    /// Room for `additional` more images.
+    fn reserve(&mut self, additional: usize) {
+        self.cells.reserve(additional, |image| image.hash);
     }
 
     /// The cell of `p` and `p`'s position in it, each coordinate in [0, 1) up to rounding.
@@ -667,70 +774,68 @@ impl Grid {
     /// Forgets the images of tiles shallower than `depth`: one sweep over the table, cheaper
     /// than looking each of them up again.
     fn evict_before(&mut self, depth: u32) {
-        self.cells.retain(|_, image| image.depth >= depth);
+        self.cells.retain(|image| image.depth >= depth);
     }
 
-    /// Stores `p` (of a tile at `depth`, its error at most `error`) unless an image of the same
-    /// tile is stored; whether it was new.
+    /// Stores `image` (its error at most `error`) unless an image of the same tile is stored;
+    /// `None` when it was new, the stored image otherwise.
     ///
     /// Two computed images in one cell are less than a cell's diagonal, √3·σ/2 < 7σ/8, apart:
-    /// they are the same tile's. The neighbouring cells are searched only when `p` lies within
-    /// the two error bounds of its own cell's faces, and there an image must be within σ/2.
-    fn insert_new(&mut self, p: DVec3, error: f64, separation: f64, depth: u32) -> bool {
-        let (key, local) = self.locate(p);
-        // The neighbours first: they are searched only near the cell's faces, and the cell
-        // itself is then probed once, to find it empty and fill it.
-        if self.in_neighbour(p, key, local, error, separation) {
-            return false;
+    /// they are the same tile's. The neighbouring cells are searched only when the point lies
+    /// within the two error bounds of its own cell's faces, and there an image must be within
+    /// σ/2.
+    ///
+    /// Inlined: passed to a call, the image is stored in pieces and loaded whole, which the
+    /// processor cannot forward from its store buffer.
+    #[inline(always)]
+    fn insert(&mut self, image: Image, error: f64) -> Option<Image> {
+        let (key, local) = self.locate(image.point);
+        // Each coordinate's cell is certain when it lies farther than the two images' error
+        // bounds (in cells) from the cell's faces: the stored image of the same tile is then in
+        // this very cell. Otherwise the neighbours are searched first, and the cell itself is
+        // then probed once, to find it empty and fill it.
+        let s = 2.0 * (error + self.error) * self.inverse;
+        if (local.min_element() < s || local.max_element() > 1.0 - s)
+            && let Some(found) = self.in_neighbour(image.point, key, local, s)
+        {
+            return Some(found);
         }
-        match self.cells.entry(key) {
-            Entry::Occupied(_) => false,
+        let (p, same, hash) = (image.point, self.same, key.hash());
+        let is_same = |stored: &Image| stored.point.distance_squared(p) < same;
+        match self.cells.entry(hash, is_same, |stored| stored.hash) {
+            Entry::Occupied(cell) => Some(*cell.get()),
             Entry::Vacant(cell) => {
-                cell.insert(Image { point: p, depth });
+                cell.insert(Image { hash, ..image });
                 self.error = self.error.max(error);
-                true
+                None
             }
         }
     }
 
-    /// Whether a neighbouring cell of `key` that `p` may belong to, given the error bounds, holds
-    /// an image within σ/2 of `p`.
-    fn in_neighbour(
-        &self,
-        p: DVec3,
-        Cell(x, y, z): Cell,
-        local: DVec3,
-        error: f64,
-        separation: f64,
-    ) -> bool {
-        // Each coordinate's cell is certain when it lies farther than the two images' error
-        // bounds (in cells) from the cell's faces: the stored image of the same tile is then in
-        // this very cell.
-        let s = 2.0 * (error + self.error) * self.inverse;
-        if local.min_element() >= s && local.max_element() <= 1.0 - s {
-            return false;
-        }
-        let half_squared = separation * separation / 4.0;
+    /// The image within σ/2 of `p` in a neighbouring cell of `key` that `p` may belong to, given
+    /// the error bounds: `s` in cells on either side of each face.
+    #[cold]
+    fn in_neighbour(&self, p: DVec3, Cell(x, y, z): Cell, local: DVec3, s: f64) -> Option<Image> {
         let range = |f: f64| {
             let lo = if f < s { -1 } else { 0 };
             let hi = if f > 1.0 - s { 1 } else { 0 };
             lo..=hi
         };
+        let is_same = |stored: &&Image| stored.point.distance_squared(p) < self.same;
         for dx in range(local.x) {
             for dy in range(local.y) {
                 for dz in range(local.z) {
-                    if (dx, dy, dz) != (0, 0, 0)
-                        && self
-                            .cells
-                            .get(&Cell(x + dx, y + dy, z + dz))
-                            .is_some_and(|q| q.point.distance_squared(p) < half_squared)
-                    {
-                        return true;
+                    if (dx, dy, dz) == (0, 0, 0) {
+                        continue;
+                    }
+                    let hash = Cell(x + dx, y + dy, z + dz).hash();
+                    if let Some(q) = self.cells.find(hash, |q| is_same(&q)) {
+                        return Some(*q);
                     }
                 }
             }
         }
-        false
+        None
     }
 }
 
