@@ -97,6 +97,9 @@ const TILING_TAB = { x: 400, y: 68 };
 // The "Restore" button of the window that offers unsaved work after a reload.
 const RESTORE = { x: 53, y: 100 };
 const RENDER_TAB = { x: 458, y: 68 };
+const LISTEN_TAB = { x: 517, y: 68 };
+// The listen tab's Listen button.
+const LISTEN_BUTTON = { x: 333, y: 91 };
 const RENDER_WIDTH = { x: 410, y: 91 };
 const RENDER_BUTTON = { x: 872, y: 91 };
 // The studio's File menu, and its Open… and Save As… items.
@@ -142,7 +145,27 @@ before(async () => {
     viewport: VIEWPORT,
     acceptDownloads: true,
     args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync", "--no-first-run"],
+      "--disable-component-update", "--disable-sync", "--no-first-run",
+      // The test listens without a person's gesture on the page.
+      "--autoplay-policy=no-user-gesture-required"],
+  });
+  // Every buffer of sound the page hands Web Audio, counted, with its loudest sample (the listen
+  // tab plays through cpal's Web Audio host, one buffer after another).
+  await context.addInitScript(() => {
+    window.__sound = { buffers: 0, peak: 0 };
+    const start = AudioBufferSourceNode.prototype.start;
+    AudioBufferSourceNode.prototype.start = function (...args) {
+      const buffer = this.buffer;
+      if (buffer) {
+        window.__sound.buffers += 1;
+        for (let c = 0; c < buffer.numberOfChannels; c++) {
+          for (const v of buffer.getChannelData(c)) {
+            window.__sound.peak = Math.max(window.__sound.peak, Math.abs(v));
+          }
+        }
+      }
+      return start.apply(this, args);
+    };
   });
   page = context.pages()[0] ?? await context.newPage();
   page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
@@ -234,6 +257,32 @@ test("the render tab produces a picture", { timeout: SLOW }, async () => {
   await shot("render", FULL);
   assert.ok(result.changed > 0.1, `no picture appeared: ${JSON.stringify(result)}`);
   assert.ok((await compare(picture)).spread > 10, "the picture is blank");
+  assert.deepEqual(errors, [], "console errors");
+});
+
+test("the listen tab plays the room's echoes through Web Audio", { timeout: SLOW }, async () => {
+  // The render of the test before takes its rounds between frames until it is done; a click
+  // while frames are that slow can be missed.
+  await settled(MIDDLE);
+  await click(LISTEN_TAB);
+  await frames(5);
+  const before = await page.screenshot({ clip: MIDDLE });
+  await click(LISTEN_BUTTON);
+  // The echoes are found on the page's thread, then played buffer by buffer.
+  const start = Date.now();
+  let sound;
+  do {
+    await page.waitForTimeout(1000);
+    sound = await page.evaluate(() => window.__sound);
+  } while (sound.peak < 0.01 && Date.now() - start < SLOW - 30_000);
+  await frames(10);
+  const after = await shot("listen", FULL);
+  assert.ok(sound.buffers > 0 && sound.peak >= 0.01, `nothing was played: ${JSON.stringify(sound)}`);
+  assert.ok(sound.peak <= 1, `the sound clips: ${JSON.stringify(sound)}`);
+  // The echogram is drawn beside the button.
+  const echogram = await compare(await page.screenshot({ clip: MIDDLE }), before);
+  assert.ok(echogram.changed > 0.02, `no echogram appeared: ${JSON.stringify(echogram)}`);
+  assert.ok((await compare(after)).spread > 10, "the page is blank");
   assert.deepEqual(errors, [], "console errors");
 });
 
