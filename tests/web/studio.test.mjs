@@ -100,6 +100,8 @@ const RENDER_TAB = { x: 458, y: 68 };
 const LISTEN_TAB = { x: 517, y: 68 };
 // The listen tab's Listen button.
 const LISTEN_BUTTON = { x: 333, y: 91 };
+// The strip of the echogram beside it that holds its title.
+const ECHOGRAM_TITLE = { x: 600, y: 84, width: 240, height: 14 };
 const RENDER_WIDTH = { x: 410, y: 91 };
 const RENDER_BUTTON = { x: 872, y: 91 };
 // The studio's File menu, and its Open… and Save As… items.
@@ -282,6 +284,9 @@ test("the listen tab plays the room's echoes through Web Audio", { timeout: SLOW
   // The echogram is drawn beside the button.
   const echogram = await compare(await page.screenshot({ clip: MIDDLE }), before);
   assert.ok(echogram.changed > 0.02, `no echogram appeared: ${JSON.stringify(echogram)}`);
+  // Its title is drawn (a page has no system fonts: the picture's text uses egui's font).
+  const title = await compare(await page.screenshot({ clip: ECHOGRAM_TITLE }));
+  assert.ok(title.spread > 8, `the echogram has no title: ${JSON.stringify(title)}`);
   assert.ok((await compare(after)).spread > 10, "the page is blank");
   assert.deepEqual(errors, [], "console errors");
 });

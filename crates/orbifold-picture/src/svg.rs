@@ -239,18 +239,71 @@ fn escape(text: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// Renders an SVG document to PNG bytes (text with the system's fonts, where it has any).
-pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, String> {
+/// Fonts given with [`add_font`], for SVG text where the system has none (a web page).
+static ADDED_FONTS: std::sync::Mutex<Vec<std::sync::Arc<Vec<u8>>>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Adds a font (TrueType or OpenType bytes) for the text of the pictures [`svg_to_png`] renders,
+/// after the system's. A page in the browser has no system fonts: the web studio gives egui's
+/// own. The first font added becomes the generic `sans-serif` family that every picture's
+/// font list ends with, when none of the families it names first is found.
+///
+/// ```
+/// // Bytes that are not a font are ignored when a picture is rendered.
+/// orbifold_picture::svg::add_font(vec![0, 1, 2]);
+/// let png = orbifold_picture::svg::svg_to_png(
+///     r#"<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4"/>"#,
+/// );
+/// assert!(png.is_ok());
+/// ```
+pub fn add_font(data: Vec<u8>) {
+    if let Ok(mut fonts) = ADDED_FONTS.lock() {
+        fonts.push(std::sync::Arc::new(data));
+    }
+}
+
+/// Renders an SVG document to pixels.
+fn render(svg: &str) -> Result<resvg::tiny_skia::Pixmap, String> {
     use resvg::{tiny_skia, usvg};
     let mut options = usvg::Options::default();
-    options.fontdb_mut().load_system_fonts();
+    let fonts = options.fontdb_mut();
+    fonts.load_system_fonts();
+    let added = ADDED_FONTS.lock().map(|f| f.clone()).unwrap_or_default();
+    for data in added {
+        let before = fonts.len();
+        fonts.load_font_source(usvg::fontdb::Source::Binary(data));
+        let family = (fonts.len() > before)
+            .then(|| {
+                fonts
+                    .faces()
+                    .last()
+                    .and_then(|f| f.families.first())
+                    .map(|f| f.0.clone())
+            })
+            .flatten();
+        let generic = fonts
+            .family_name(&usvg::fontdb::Family::SansSerif)
+            .to_string();
+        let has_generic = fonts
+            .faces()
+            .any(|f| f.families.iter().any(|(name, _)| *name == generic));
+        if let (Some(family), false) = (family, has_generic) {
+            fonts.set_sans_serif_family(family);
+        }
+    }
     let tree = usvg::Tree::from_str(svg, &options)
         .map_err(|e| format!("cannot render the picture: {e}"))?;
     let size = tree.size().to_int_size();
     let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height())
         .ok_or_else(|| format!("cannot render a {}×{} picture", size.width(), size.height()))?;
     resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-    pixmap
+    Ok(pixmap)
+}
+
+/// Renders an SVG document to PNG bytes (text with the system's fonts, where it has any, and
+/// those given with [`add_font`]).
+pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, String> {
+    render(svg)?
         .encode_png()
         .map_err(|e| format!("cannot encode the PNG: {e}"))
 }
@@ -1161,6 +1214,32 @@ mod tests {
             }
         }
         arcs
+    }
+
+    /// Text in a family only an added font has is drawn with that font (the web studio adds
+    /// egui's, as a page has no system fonts).
+    #[test]
+    fn text_is_drawn_with_an_added_font() {
+        let font = epaint_default_fonts::UBUNTU_LIGHT;
+        let mut alone = resvg::usvg::fontdb::Database::new();
+        alone.load_font_data(font.to_vec());
+        let family = alone.faces().next().expect("a face").families[0].0.clone();
+        let svg = |family: &str| {
+            format!(
+                r#"<svg xmlns="http://www.w3.org/2000/svg" width="160" height="40"><text x="4" y="30" font-family="{family}" font-size="28">Echoes</text></svg>"#
+            )
+        };
+        let inked = |pixmap: resvg::tiny_skia::Pixmap| {
+            pixmap.pixels().iter().filter(|p| p.alpha() > 128).count()
+        };
+        let before = inked(render(&svg("No Such Family")).unwrap());
+        add_font(font.to_vec());
+        let drawn = inked(render(&svg(&family)).unwrap());
+        assert!(drawn > 100, "{family}: {drawn} pixels inked");
+        // Where the system has no font at all (a page), the added one is the fallback too.
+        if before == 0 {
+            assert!(inked(render(&svg("No Such Family, sans-serif")).unwrap()) > 100);
+        }
     }
 
     fn model_and_space(which: usize) -> (Model, Space) {

@@ -98,6 +98,9 @@ pub fn start() {
 }
 
 async fn run() -> Result<(), JsValue> {
+    // A page has no system fonts: the text of the pictures rendered from SVG (the echogram's
+    // axes and legend) is drawn with egui's own sans-serif font.
+    orbifold_picture::svg::add_font(epaint_default_fonts::UBUNTU_LIGHT.to_vec());
     let document = web_sys::window()
         .and_then(|w| w.document())
         .ok_or("no document")?;
