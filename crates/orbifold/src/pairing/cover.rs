@@ -314,6 +314,16 @@ impl Search {
         self.space.ambient_distance(self.centre, point)
     }
 
+    /// The chord ([`chord`]) of the distance `r`, rounded up: every point within `r` of
+    /// the centre has a chord at most this (all of them, for r ≥ π on the sphere).
+    fn chord_within(&self, r: f64) -> f64 {
+        if !r.is_finite() || self.space.kappa() > 0.0 && r >= std::f64::consts::PI {
+            return f64::INFINITY;
+        }
+        let half = self.space.sin(r / 2.0);
+        4.0 * half * half * (1.0 + 1e-12)
+    }
+
     fn run(&mut self) -> Result<(), CoverError> {
         let base = Node {
             matrix: DMat3::IDENTITY,
@@ -432,22 +442,12 @@ impl Search {
 
     fn record(&mut self, layer: &[LayerTile], depth: usize) {
         let mut count = 0;
-        // Distances from O grow with the chord ⟨p − O, p − O⟩: compare chords, and take one
-        // distance per layer for the farthest tile.
-        let chord = |p: DVec3| {
-            let d = p - self.centre;
-            self.space.point_dot(d, d)
-        };
+        // Distances from O grow with the chord: compare chords, and take one distance per layer
+        // for the farthest tile.
+        let (space, centre) = (self.space, self.centre);
+        let chord = |p: DVec3| chord(space, centre, p);
         let limit = match self.bound {
-            Bound::Radius(r) => {
-                let half = self.space.sin(r / 2.0);
-                let within = 4.0 * half * half;
-                if self.space.kappa() > 0.0 && r >= std::f64::consts::PI {
-                    f64::INFINITY
-                } else {
-                    within * (1.0 + 1e-12)
-                }
-            }
+            Bound::Radius(r) => self.chord_within(r),
             _ => f64::INFINITY,
         };
         let mut widest = 0.0f64;
@@ -503,7 +503,7 @@ impl Search {
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
-        let bounded = self.reach.is_finite();
+        let reach = self.chord_within(self.reach);
         let n = self.generators.len();
         for index in 0..layer.len() {
             let LayerTile {
@@ -511,7 +511,7 @@ impl Search {
                 facing,
                 known,
             } = layer[index];
-            if bounded && self.distance(parent.point) > self.reach {
+            if chord(self.space, self.centre, parent.point) > reach {
                 continue;
             }
             let p_norm = self.parent_norm(&parent);
@@ -590,6 +590,14 @@ impl Search {
             (1.0 + parent.error) * (1.0 + 1e-12)
         }
     }
+}
+
+/// The chord ⟨p − O, p − O⟩ of an ambient point p: 4·S_κ(d/2)², d its distance from the centre
+/// O, which grows with d (up to π on the sphere). Comparing chords saves an acosh or acos per
+/// tile.
+fn chord(space: Space, centre: DVec3, p: DVec3) -> f64 {
+    let d = p - centre;
+    space.point_dot(d, d)
 }
 
 /// The bit of edge `i` in a tile's mask of known neighbours; none beyond 64 edges, whose
