@@ -1181,4 +1181,20 @@ mod tests {
             );
         }
     }
+
+    /// The genus-two surface group ⟨a, b, c, d | [a, b][c, d]⟩ (the star of `oo`: a
+    /// commutator of pairings per handle) has one relator, of length 8, and it is a small
+    /// cancellation group, so two reduced words of length at most 4 are equal only when
+    /// together they spell the relator: below length 4 all 8·7ⁿ⁻¹ reduced words are distinct,
+    /// and at length 4 the relator's 16 cyclic words (its 8 rotations and theirs inverted) make 8
+    /// pairs of equal words, leaving 8·7³ − 8 = 2736. The search, which knows nothing of words,
+    /// finds these counts from the images of the centre alone.
+    #[test]
+    fn the_genus_two_group_grows_as_its_one_relator_says() {
+        let c = geometric("oo", Bound::Depth(4));
+        let reduced = |n: u32| 8 * 7u64.pow(n - 1);
+        let expected = vec![1, reduced(1), reduced(2), reduced(3), reduced(4) - 8];
+        assert_eq!(c.counts_by_depth, expected);
+        assert_eq!(expected[4], 2736);
+    }
 }
