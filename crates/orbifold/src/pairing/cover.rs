@@ -177,14 +177,23 @@ struct Node {
     shift: f64,
 }
 
-/// A tile of a layer: its node, the edge across which it was reached (`u32::MAX` for the base),
-/// and the mask ([`edge_bit`]) of the edges whose neighbour is already known: its parent's, and
-/// those across which a tile of the search has found it.
+/// A tile of a layer: its node and the edge across which it was reached (`u32::MAX` for the
+/// base).
 #[derive(Clone, Copy)]
 struct LayerTile {
     node: Node,
     facing: u32,
-    known: u64,
+}
+
+/// The tiles of one depth and, for each, the mask ([`edge_bit`]) of the edges whose neighbour
+/// is already known: its parent's, and those across which a tile of the search has found it.
+///
+/// The masks are apart from the tiles, which the search then only reads: a tile is read in
+/// place, not copied whole (a copy is stored in pieces and read back in others, which the
+/// processor cannot forward from its store buffer).
+struct Layer {
+    tiles: Vec<LayerTile>,
+    known: Vec<u64>,
 }
 
 struct Search {
@@ -338,7 +347,7 @@ impl Search {
             ));
         }
         let bytes_per_tile =
-            (std::mem::size_of::<LayerTile>() + std::mem::size_of::<Image>() + 8) as u128;
+            (std::mem::size_of::<LayerTile>() + std::mem::size_of::<Image>() + 16) as u128;
         // One grid holds the last two layers and the one being built; the layer before those
         // is evicted before each expansion (a word of length d + 1 equals none shorter than d − 1).
         let mut grid = Grid::new(cell);
@@ -349,23 +358,25 @@ impl Search {
             hash: 0,
         };
         grid.insert(image, 0.0);
-        let mut layer = vec![LayerTile {
-            node: base,
-            facing: u32::MAX,
-            known: 0,
-        }];
+        let mut layer = Layer {
+            tiles: vec![LayerTile {
+                node: base,
+                facing: u32::MAX,
+            }],
+            known: vec![0],
+        };
         let mut previous = 1;
         let mut depth = 0usize;
         let mut total = 0u128;
         loop {
             if let Bound::Tiles(limit) = self.bound
-                && total + layer.len() as u128 > limit as u128
+                && total + layer.tiles.len() as u128 > limit as u128
             {
                 break;
             }
-            total += layer.len() as u128;
+            total += layer.tiles.len() as u128;
             if total.saturating_mul(bytes_per_tile) > MEMORY_BUDGET && self.keep
-                || (layer.len() as u128).saturating_mul(3 * bytes_per_tile) > MEMORY_BUDGET
+                || (layer.tiles.len() as u128).saturating_mul(3 * bytes_per_tile) > MEMORY_BUDGET
             {
                 return Err(CoverError::TooLarge {
                     tiles: total,
@@ -373,8 +384,8 @@ impl Search {
                     budget: MEMORY_BUDGET,
                 });
             }
-            self.record(&layer, depth);
-            if layer.is_empty() || matches!(self.bound, Bound::Depth(d) if depth >= d) {
+            self.record(&layer.tiles, depth);
+            if layer.tiles.is_empty() || matches!(self.bound, Bound::Depth(d) if depth >= d) {
                 break;
             }
             grid.evict_before(depth.saturating_sub(1) as u32);
@@ -386,12 +397,13 @@ impl Search {
             // Room for the next layer at the last layers' rate of growth, so that the table
             // grows once per layer rather than doubling several times on the way; never more
             // than a layer the memory budget allows.
-            let growth = layer.len() as f64 / previous.max(1) as f64;
-            let expected = (layer.len() as f64 * growth.max(1.0) * 1.25) as u128;
+            let growth = layer.tiles.len() as f64 / previous.max(1) as f64;
+            let expected = (layer.tiles.len() as f64 * growth.max(1.0) * 1.25) as u128;
             let most = MEMORY_BUDGET / (3 * bytes_per_tile);
-            grid.reserve(expected.min(room).min(most) as usize);
-            previous = layer.len();
-            let Some(next) = self.expand(&mut layer, &mut grid, depth + 1, room)? else {
+            let capacity = expected.min(room).min(most) as usize;
+            grid.reserve(capacity);
+            previous = layer.tiles.len();
+            let Some(next) = self.expand(&mut layer, &mut grid, depth + 1, room, capacity)? else {
                 break;
             };
             layer = next;
@@ -489,39 +501,40 @@ impl Search {
     /// the grid sharded among the cores or not, was slower on two cores: docs/cover.md.)
     ///
     /// A lookup that finds a tile of this layer or the next marks on that tile the edge that
-    /// faces the parent ([`LayerTile::known`]), so that the same pair of tiles is not looked up
+    /// faces the parent ([`Layer::known`]), so that the same pair of tiles is not looked up
     /// again from the other side: each edge between tiles of the search is looked up once.
     fn expand(
         &self,
-        layer: &mut [LayerTile],
+        layer: &mut Layer,
         grid: &mut Grid,
         depth: usize,
         room: u128,
-    ) -> Result<Option<Vec<LayerTile>>, CoverError> {
-        let mut next: Vec<LayerTile> = Vec::with_capacity(layer.len() * 2);
+        capacity: usize,
+    ) -> Result<Option<Layer>, CoverError> {
+        let Layer { tiles, known } = layer;
+        let mut next = Layer {
+            tiles: Vec::with_capacity(capacity),
+            known: Vec::with_capacity(capacity),
+        };
         let stamp = depth as u32;
         // Below σ/16 per image: one tile's images lie within σ/8, distinct tiles' images at
         // least 7σ/8 apart, more than a cell's diagonal (√3·σ/2 ≈ 0.87σ).
         let limit = self.separation / 16.0;
         let reach = self.chord_within(self.reach);
         let n = self.generators.len();
-        for index in 0..layer.len() {
-            let LayerTile {
-                node: parent,
-                facing,
-                known,
-            } = layer[index];
+        for (index, tile) in tiles.iter().enumerate() {
+            let (parent, facing) = (&tile.node, tile.facing);
             if chord(self.space, self.centre, parent.point) > reach {
                 continue;
             }
-            let p_norm = self.parent_norm(&parent);
+            let p_norm = self.parent_norm(parent);
             let shift_p = parent.matrix.z_axis.truncate().length();
             // The edges to look across, as a mask rather than a test per edge, whose outcome
             // varies from tile to tile: not a known neighbour (the parent among them), not a
             // half-turn's second edge (it gives the first one's children again), not beside
             // the parent round a vertex of three (that tile is no deeper than this one).
             let beside = self.beside_mask.get(facing as usize).copied().unwrap_or(0);
-            let mut todo = self.expanded & !known & !beside;
+            let mut todo = self.expanded & !known[index] & !beside;
             let mut wide = 64..n;
             loop {
                 let i = if todo != 0 {
@@ -539,7 +552,7 @@ impl Search {
                 };
                 // The image of O first (N·O is precomputed); the matrix only for a new tile.
                 let point = parent.matrix * self.images[i];
-                let (error, shift, point_error) = self.propagate(&parent, p_norm, shift_p, i);
+                let (error, shift, point_error) = self.propagate(parent, p_norm, shift_p, i);
                 if point_error.is_nan() || point_error >= limit || !point.is_finite() {
                     return Err(CoverError::Precision { depth });
                 }
@@ -547,7 +560,7 @@ impl Search {
                 let image = Image {
                     point,
                     depth: stamp,
-                    index: next.len() as u32,
+                    index: next.tiles.len() as u32,
                     hash: 0,
                 };
                 match grid.insert(image, point_error) {
@@ -558,20 +571,20 @@ impl Search {
                             error,
                             shift,
                         };
-                        next.push(LayerTile {
+                        next.tiles.push(LayerTile {
                             node,
                             facing: self.facing[i],
-                            known: faces_parent,
                         });
-                        if next.len() as u128 > room {
+                        next.known.push(faces_parent);
+                        if next.tiles.len() as u128 > room {
                             return Ok(None);
                         }
                     }
                     Some(found) if found.depth == stamp => {
-                        next[found.index as usize].known |= faces_parent;
+                        next.known[found.index as usize] |= faces_parent;
                     }
                     Some(found) if found.depth + 1 == stamp => {
-                        layer[found.index as usize].known |= faces_parent;
+                        known[found.index as usize] |= faces_parent;
                     }
                     Some(_) => {}
                 }
@@ -686,26 +699,24 @@ fn defect(polygon: &FundamentalPolygon, generators: &[DMat3]) -> f64 {
     16.0 * worst.max(64.0 * U)
 }
 
-/// ⌊v⌋ as an integer and as a float, without a call to the C library's `floor` (which the
-/// baseline x86-64 target makes of `f64::floor`) nor a saturating conversion per coordinate.
+/// The integer nearest to v (ties to even), as an integer and as a float: the grid's cell of a
+/// coordinate, so that the cells are [k − ½, k + ½]. Rounding to nearest, rather than down,
+/// needs no comparison afterwards: a branch on the rounding's direction goes either way at
+/// random, and the processor's mispredictions of it were a sixth of the search's time.
 ///
-/// Adding 1.5·2⁵² rounds v to the nearest integer, whose two's complement then sits in the
-/// sum's low mantissa bits (exact for |v| < 2⁵¹; larger values, far beyond any certified image,
-/// take the saturating conversion as `as` does).
-fn floor(v: f64) -> (i64, f64) {
+/// Adding 1.5·2⁵² rounds v to the nearest integer (the processor's rounding mode), whose two's
+/// complement then sits in the sum's low mantissa bits (exact for |v| < 2⁵¹; larger values, far
+/// beyond any certified image, take ⌊v + ½⌋ with a saturating conversion as `as` does).
+fn nearest(v: f64) -> (i64, f64) {
     const MAGIC: f64 = 6_755_399_441_055_744.0;
     if v.abs() < (1u64 << 50) as f64 {
         let sum = v + MAGIC;
-        let nearest = sum - MAGIC;
         let n = sum.to_bits() as i64 - MAGIC.to_bits() as i64;
-        return if nearest > v {
-            (n - 1, nearest - 1.0)
-        } else {
-            (n, nearest)
-        };
+        return (n, sum - MAGIC);
     }
-    let t = v as i64;
-    let t = if (t as f64) > v {
+    let w = v + 0.5;
+    let t = w as i64;
+    let t = if (t as f64) > w {
         t.saturating_sub(1)
     } else {
         t
@@ -753,6 +764,9 @@ struct Grid {
     /// (σ/2)²: images closer than this are the same tile's.
     same: f64,
     cells: HashTable<Image>,
+    /// The hashes of the stored images, by depth and, within a depth, in the order stored (the
+    /// images' `index`): how the images of a layer are found again to forget them.
+    hashes: Vec<Vec<u64>>,
     /// The largest error bound of a stored image.
     error: f64,
 }
@@ -763,6 +777,7 @@ impl Grid {
             inverse: 1.0 / cell,
             same: cell * cell,
             cells: HashTable::new(),
+            hashes: Vec::new(),
             error: 0.0,
         }
     }
@@ -772,17 +787,26 @@ impl Grid {
         self.cells.reserve(additional, |image| image.hash);
     }
 
-    /// The cell of `p` and `p`'s position in it, each coordinate in [0, 1) up to rounding.
+    /// The cell of `p` and `p`'s position in it, each coordinate in [0, 1] up to rounding.
     fn locate(&self, p: DVec3) -> (Cell, DVec3) {
         let q = p * self.inverse;
-        let ((x, fx), (y, fy), (z, fz)) = (floor(q.x), floor(q.y), floor(q.z));
-        (Cell(x, y, z), q - DVec3::new(fx, fy, fz))
+        let ((x, fx), (y, fy), (z, fz)) = (nearest(q.x), nearest(q.y), nearest(q.z));
+        (Cell(x, y, z), q - DVec3::new(fx, fy, fz) + 0.5)
     }
 
-    /// Forgets the images of tiles shallower than `depth`: one sweep over the table, cheaper
-    /// than looking each of them up again.
+    /// Forgets the images of tiles shallower than `depth`, each found again under its stored
+    /// hash: a probe per forgotten image, rather than a sweep over every image in the table
+    /// (three layers' worth, with a branch the processor cannot predict per image).
     fn evict_before(&mut self, depth: u32) {
-        self.cells.retain(|image| image.depth >= depth);
+        for d in 0..(depth as usize).min(self.hashes.len()) {
+            for (index, hash) in std::mem::take(&mut self.hashes[d]).into_iter().enumerate() {
+                let stamp = (d as u32, index as u32);
+                let this = |image: &Image| (image.depth, image.index) == stamp;
+                if let Ok(entry) = self.cells.find_entry(hash, this) {
+                    entry.remove();
+                }
+            }
+        }
     }
 
     /// Stores `image` (its error at most `error`) unless an image of the same tile is stored;
@@ -814,6 +838,11 @@ impl Grid {
             Entry::Occupied(cell) => Some(*cell.get()),
             Entry::Vacant(cell) => {
                 cell.insert(Image { hash, ..image });
+                let depth = image.depth as usize;
+                if self.hashes.len() <= depth {
+                    self.hashes.resize_with(depth + 1, Vec::new);
+                }
+                self.hashes[depth].push(hash);
                 self.error = self.error.max(error);
                 None
             }
@@ -861,17 +890,37 @@ mod tests {
             .unwrap_or_else(|e| panic!("{s}: {e}"))
     }
 
-    /// Beyond the range of i64 both saturate, as `as` does.
-    fn assert_floor(v: f64) {
-        let (n, f) = floor(v);
-        assert_eq!(n, v.floor() as i64, "{v}");
-        assert_eq!(f, (v.floor() as i64) as f64, "{v}");
+    /// The grid's rounding is an integer within ½ of v (the nearest, ties to even, as the C
+    /// library's `rint` rounds), as a float too; beyond the range of i64 it saturates, as `as`
+    /// does.
+    fn assert_nearest(v: f64) {
+        let (n, f) = nearest(v);
+        if v.abs() < 2f64.powi(50) {
+            let rounded = v.round();
+            let tie = (v - v.floor()) == 0.5;
+            let expected = if tie && rounded % 2.0 != 0.0 {
+                rounded - v.signum()
+            } else {
+                rounded
+            };
+            assert_eq!(f, expected, "{v}");
+        } else {
+            assert_eq!(
+                f,
+                (v + 0.5).floor().clamp(i64::MIN as f64, i64::MAX as f64),
+                "{v}"
+            );
+        }
+        assert_eq!(f, n as f64, "{v}");
+        if v.abs() < 1e15 {
+            assert!((v - f).abs() <= 0.5, "{v}: {f}");
+        }
     }
 
-    /// The grid's floor agrees with the C library's at integers, halves and their neighbours in
-    /// the last bit, and far beyond the rounding trick's range.
+    /// At integers, halves and their neighbours in the last bit, and far beyond the rounding
+    /// trick's range.
     #[test]
-    fn floor_agrees_with_the_library_at_integers_and_halves() {
+    fn nearest_rounds_integers_and_halves_as_the_library_does() {
         for v in [
             0.0,
             -0.0,
@@ -881,12 +930,12 @@ mod tests {
             -(2f64.powi(51)),
             2f64.powi(53),
         ] {
-            assert_floor(v);
+            assert_nearest(v);
         }
         for k in -1000..1000 {
             for v in [k as f64, k as f64 + 0.5] {
                 for w in [v, v.next_up(), v.next_down()] {
-                    assert_floor(w);
+                    assert_nearest(w);
                 }
             }
         }
@@ -895,8 +944,8 @@ mod tests {
     proptest::proptest! {
         /// And at random values of every scale and both signs.
         #[test]
-        fn floor_agrees_with_the_library(m in -1.0f64..1.0, e in -3i32..18) {
-            assert_floor(m * 10f64.powi(e));
+        fn nearest_rounds_as_the_library_does(m in -1.0f64..1.0, e in -3i32..18) {
+            assert_nearest(m * 10f64.powi(e));
         }
     }
 

@@ -478,9 +478,11 @@ impl RowBasis {
     }
 }
 
-/// Candidate words: single generators, then products of two, then of three distinct ones, with
-/// inverses (of pairings: a reflection is its own inverse).
-fn candidate_words(problem: &Problem, letters: usize) -> Vec<Vec<Letter>> {
+/// Candidate words: single generators, then products of two, then of three, with inverses (of
+/// pairings: a reflection is its own inverse). With `sorted`, the letters' generators come in
+/// the edges' order (a·b and b·a are conjugate, so of two letters that loses nothing); without,
+/// in every order, as a·c·b and a·b·c are not conjugate.
+fn candidate_words(problem: &Problem, letters: usize, sorted: bool) -> Vec<Vec<Letter>> {
     let generators: Vec<usize> = (0..problem.glue.len())
         .filter(|&i| match problem.glue[i] {
             Glue::Mirror => true,
@@ -495,7 +497,10 @@ fn candidate_words(problem: &Problem, letters: usize) -> Vec<Vec<Letter>> {
     for _ in 0..letters {
         let mut longer = Vec::new();
         for w in &words {
-            let last = w.last().map_or(0, |l: &Letter| l.edge + 1);
+            let last = match w.last() {
+                Some(l) if sorted => l.edge + 1,
+                _ => 0,
+            };
             for &g in generators.iter().filter(|&&g| g >= last) {
                 for inverse in signs(g) {
                     // The first letter is never inverted: w and w⁻¹ have the same length.
@@ -524,8 +529,11 @@ fn preference(word: &[Letter]) -> f64 {
 
 /// The smallest part of a chosen word's gradient (of log ℓ, per unit of the corners'
 /// coordinates) outside the span of the conditions and the words before it, relative to the
-/// first word's: below it the lengths would be poor coordinates (nearly dependent), and
-/// Newton's steps long.
+/// smaller of the first word's and the word's own part outside the conditions' span (the sine
+/// of its angle to the span): below it the lengths would be poor coordinates (nearly
+/// dependent), and Newton's steps long. The word's own part counts because a first word much
+/// steeper than the others would otherwise turn away independent ones: in `o233*2∞∞*3` the
+/// sixteenth word keeps a quarter of its gradient, but only 0.0049 of the first word's.
 const INDEPENDENCE: f64 = 0.005;
 
 /// T words whose lengths are independent on the manifold of polygons at `x0` (fewer when no
@@ -534,8 +542,9 @@ const INDEPENDENCE: f64 = 0.005;
 fn choose_words(problem: &Problem, x0: &[f64], count: usize) -> Vec<Vec<Letter>> {
     let conditions = jacobian(x0, |x| problem.conditions(&problem.unpack(x)));
     let mut chosen: Vec<Vec<Letter>> = Vec::new();
-    // Words of three letters only where those of up to two do not give T.
-    for longest in 2..=3 {
+    // Words of three letters only where those of up to two do not give T, and those in every
+    // order of their letters only where three in the edges' order do not.
+    for (longest, sorted) in [(2, true), (3, true), (3, false)] {
         if chosen.len() >= count {
             break;
         }
@@ -545,7 +554,7 @@ fn choose_words(problem: &Problem, x0: &[f64], count: usize) -> Vec<Vec<Letter>>
             basis.push(row);
         }
         let candidates: Vec<Vec<Letter>> = (1..=longest)
-            .flat_map(|letters| candidate_words(problem, letters))
+            .flat_map(|letters| candidate_words(problem, letters, sorted))
             .filter(|w| {
                 let l = problem.lengths_of(&problem.unpack(x0), std::slice::from_ref(w))[0];
                 l > 0.05 && l < MAX_LENGTH
@@ -561,6 +570,9 @@ fn choose_words(problem: &Problem, x0: &[f64], count: usize) -> Vec<Vec<Letter>>
             l.iter().zip(&lengths0).map(|(a, b)| (a / b).ln()).collect()
         });
         let mut rests: Vec<Vec<f64>> = gradients.iter().map(|g| basis.reduce(g).0).collect();
+        // Each word's gradient on the manifold (outside the conditions' span): how much of it
+        // is left outside the chosen words' span is the sine of its angle to that span.
+        let tangents: Vec<f64> = rests.iter().map(|r| dot(r, r).sqrt()).collect();
         let mut firsts = None;
         while chosen.len() < count {
             let score = |k: usize| dot(&rests[k], &rests[k]).sqrt() * preference(&candidates[k]);
@@ -569,7 +581,7 @@ fn choose_words(problem: &Problem, x0: &[f64], count: usize) -> Vec<Vec<Letter>>
                 .expect("candidates");
             let norm = dot(&rests[best], &rests[best]).sqrt();
             let first = *firsts.get_or_insert(norm);
-            if norm < INDEPENDENCE * first {
+            if norm < INDEPENDENCE * first && norm < INDEPENDENCE * tangents[best] {
                 break;
             }
             let q: Vec<f64> = rests[best].iter().map(|x| x / norm).collect();
