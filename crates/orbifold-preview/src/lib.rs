@@ -10,6 +10,7 @@
 //! - [`projection`]: the projection on the CPU (the shader's twin), for tests and picking.
 //! - [`copies`]: the copies of the room and their brightness.
 //! - [`mesh`]: the room and objects as vertex buffers and the part table.
+//! - [`textures`]: the scene's image files, one layer each of the GPU's array texture.
 //! - [`Preview`]: the renderer; [`Gpu`]: the device it draws on; [`Frame`]: what it returns.
 //!
 //! ```no_run
@@ -28,6 +29,7 @@ pub mod gpu;
 pub mod mesh;
 pub mod projection;
 pub mod renderer;
+pub mod textures;
 
 pub use frame::Frame;
 pub use gpu::Gpu;

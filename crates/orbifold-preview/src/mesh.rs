@@ -18,6 +18,8 @@ use orbifold::space::Space;
 use orbifold_scene::geometry::{Part, PartKind, representative};
 use orbifold_scene::{Color, Coordinates, Material, Scene};
 
+use crate::textures::TextureTable;
+
 /// How much of the mirror's colour the room's own mirrors lay over what is seen through them
 /// (copies' mirrors show only their frames, so that far copies do not fog over).
 pub const MIRROR_ALPHA: f32 = 0.06;
@@ -40,9 +42,11 @@ pub struct Vertex {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PartStyle {
-    /// The colour (linear RGB); `w` is the checkerboard's square size, 0 for a plain colour.
+    /// The colour (linear RGB; marble's ground); `w` is the pattern's size: a checkerboard's
+    /// square, the extent of one copy of an image, the size of marble's features.
     pub color: [f32; 4],
-    /// The checkerboard's second colour; `w` is the opacity (1, or [`MIRROR_ALPHA`]).
+    /// The checkerboard's second colour (marble's veins); `w` is the opacity (1, or
+    /// [`MIRROR_ALPHA`]).
     pub second: [f32; 4],
     /// The part's placement: columns of an ambient isometry; `transform[0][3]` is the height
     /// offset.
@@ -52,27 +56,52 @@ pub struct PartStyle {
     pub code: i32,
     /// 1 for a mirror, 0 for an opaque part.
     pub mirror: u32,
-    /// Padding to a 16-byte multiple.
-    pub pad: [u32; 2],
+    /// What the surface shows: [`PLAIN`], [`CHECKER`], [`IMAGE`] or [`MARBLE`].
+    pub pattern: u32,
+    /// For an image, its layer in the scene's [`TextureTable`].
+    pub layer: u32,
     /// For a mirror, its rectangle in wall coordinates: from, to (arc length along the wall),
     /// bottom, top; its frame is drawn along the edges.
     pub frame: [f32; 4],
 }
 
+/// [`PartStyle::pattern`]: one colour (what stands for a material without a pattern).
+pub const PLAIN: u32 = 0;
+/// [`PartStyle::pattern`]: a checkerboard of `color` and `second`, squares `color.w` wide.
+pub const CHECKER: u32 = 1;
+/// [`PartStyle::pattern`]: an image ([`PartStyle::layer`]) repeating every `color.w`.
+pub const IMAGE: u32 = 2;
+/// [`PartStyle::pattern`]: marble, veins of `second` in a ground of `color`, features of size
+/// `color.w` (the renderer's procedural marble, `orbifold_render::textures::marble`).
+pub const MARBLE: u32 = 3;
+
 impl PartStyle {
-    /// A part that stands where it was meshed.
-    fn new(material: &Material, code: i32) -> PartStyle {
-        let (color, second, size) = match material {
-            Material::Checker { colors, size, .. } => (colors[0], colors[1], *size),
+    /// A part that stands where it was meshed; an image material takes its layer in `textures`.
+    fn new(material: &Material, code: i32, textures: &mut TextureTable) -> PartStyle {
+        let (pattern, color, second, size) = match material {
+            Material::Checker { colors, size, .. } => (CHECKER, colors[0], colors[1], *size),
+            Material::Marble {
+                base, vein, scale, ..
+            } => (MARBLE, *base, *vein, *scale),
+            Material::Texture { scale, .. } => {
+                let c = representative(material);
+                (IMAGE, c, c, *scale)
+            }
             other => {
                 let c = representative(other);
-                (c, c, 0.0)
+                (PLAIN, c, c, 0.0)
             }
+        };
+        let layer = match material {
+            Material::Texture { path, .. } => textures.layer(path),
+            _ => 0,
         };
         let mut style = PartStyle {
             color: rgba(color, size as f32),
             second: rgba(second, 1.0),
             code,
+            pattern,
+            layer,
             ..PartStyle::default()
         };
         style.place(Space::new(orbifold::Geometry::Euclidean), None);
@@ -81,7 +110,8 @@ impl PartStyle {
 
     /// A mirror of this reflectance on wall `wall`, spanning `frame` (see [`PartStyle::frame`]).
     fn mirror(reflectance: Color, wall: usize, frame: [f32; 4]) -> PartStyle {
-        let mut style = PartStyle::new(&Material::Color { color: reflectance }, 2 + wall as i32);
+        let plain = Material::Color { color: reflectance };
+        let mut style = PartStyle::new(&plain, 2 + wall as i32, &mut TextureTable::default());
         style.second[3] = MIRROR_ALPHA;
         style.mirror = 1;
         style.frame = frame;
@@ -157,11 +187,13 @@ pub struct ObjectMeshes {
     pub extents: Vec<(f64, f64)>,
 }
 
-/// Meshes every object of `scene` (mesh files relative to `base`).
+/// Meshes every object of `scene` (mesh files relative to `base`); image materials take their
+/// layers in `textures`.
 pub fn objects(
     scene: &Scene,
     layout: &Layout,
     base: Option<&Path>,
+    textures: &mut TextureTable,
 ) -> Result<ObjectMeshes, String> {
     let space = layout.space();
     let mut out = ObjectMeshes::default();
@@ -177,7 +209,7 @@ pub fn objects(
         out.mesh.push(&surface, i as u32, |p, h| {
             patterns.floor(moved * p, h + placement.height)
         });
-        let mut style = PartStyle::new(&object.material, 1000 + i as i32);
+        let mut style = PartStyle::new(&object.material, 1000 + i as i32, textures);
         style.place(space, Some(&placement));
         out.styles.push(style);
         let origin = DVec3::Z;
@@ -256,12 +288,13 @@ fn add_levels(out: &mut ObjectMeshes) {
 }
 
 /// The room's floor, ceiling, walls and mirrors, with their styles; part indices start at
-/// `first_part`.
+/// `first_part`; image materials take their layers in `textures`.
 pub fn room(
     scene: &Scene,
     layout: &Layout,
     mesher: &RoomMesher,
     first_part: u32,
+    textures: &mut TextureTable,
 ) -> (MeshData, Vec<PartStyle>) {
     let space = layout.space();
     let parts = scene.room_parts(layout, mesher);
@@ -284,7 +317,7 @@ pub fn room(
                     let patterns = Patterns::new(space, layout, material);
                     mesh.push(&part.surface, index, |p, h| patterns.floor(p, h));
                     let code = if part.kind == PartKind::Floor { 0 } else { 1 };
-                    styles.push(PartStyle::new(material, code));
+                    styles.push(PartStyle::new(material, code, textures));
                 }
                 PartKind::Wall(w) | PartKind::Mirror { wall: w, .. } => {
                     let start_point = mesher.wall_point(w, 0.0);
@@ -295,7 +328,7 @@ pub fn room(
                     });
                     styles.push(match part.reflectance {
                         Some(r) => PartStyle::mirror(r, w, extent(&mesh.vertices[first..])),
-                        None => PartStyle::new(scene.wall_material(w), 2 + w as i32),
+                        None => PartStyle::new(scene.wall_material(w), 2 + w as i32, textures),
                     });
                 }
                 PartKind::Object(_) => {}
@@ -347,6 +380,12 @@ impl Patterns {
             Material::Checker {
                 coordinates: Coordinates::Intrinsic,
                 ..
+            } | Material::Texture {
+                coordinates: Coordinates::Intrinsic,
+                ..
+            } | Material::Marble {
+                coordinates: Coordinates::Intrinsic,
+                ..
             }
         );
         Patterns {
@@ -388,7 +427,7 @@ mod tests {
     fn every_level_of_detail_is_ordered_for_the_vertex_cache() {
         let scene = Scene::default();
         let layout = scene.layout().unwrap();
-        let objects = objects(&scene, &layout, None).unwrap();
+        let objects = objects(&scene, &layout, None, &mut TextureTable::default()).unwrap();
         let count = objects.mesh.vertices.len();
         assert_eq!(objects.levels.len(), LEVELS);
         for level in &objects.levels {

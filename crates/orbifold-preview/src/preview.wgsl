@@ -2,6 +2,7 @@
 // twin on the CPU (tests hold the two to the same pixels).
 
 const TAU: f32 = 6.283185307179586;
+const PI: f32 = 3.141592653589793;
 
 struct Globals {
     // Camera basis in the eye's frame (model +x, model +y, up); w: kappa, eye height, mode.
@@ -20,12 +21,17 @@ struct Part {
     transform: mat3x4<f32>,
     code: i32,
     mirror: u32,
-    pad: vec2<u32>,
+    // 0 plain, 1 checkerboard, 2 image (layer), 3 marble (mesh.rs, `PartStyle::pattern`).
+    pattern: u32,
+    layer: u32,
     frame: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 @group(0) @binding(1) var<uniform> parts: array<Part, MAX_PARTS>;
+// The scene's images, one a layer (textures.rs); nearest texels, repeating.
+@group(0) @binding(2) var images: texture_2d_array<f32>;
+@group(0) @binding(3) var image_sampler: sampler;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -109,16 +115,129 @@ fn vs_main(v: VertexIn, inst: InstanceIn, @builtin(vertex_index) index: u32) -> 
 }
 
 
+// The pattern's colour at texture coordinates `pattern` (docs/scene-format.md, "Where a
+// pattern lies"), as the renderer's textures give it.
 fn albedo(part: Part, pattern: vec3<f32>) -> vec3<f32> {
     let size = part.color.w;
-    if size > 0.0 {
-        let cell = floor(pattern / size);
-        let parity = i32(cell.x + cell.y + cell.z) & 1;
-        if parity == 1 {
-            return part.second.rgb;
+    switch part.pattern {
+        case 1u: {
+            if size > 0.0 {
+                let cell = floor(pattern / size);
+                let parity = i32(cell.x + cell.y + cell.z) & 1;
+                if parity == 1 {
+                    return part.second.rgb;
+                }
+            }
         }
+        case 2u: {
+            // v runs up the image from its bottom row; the texture's rows run down from its top.
+            let uv = vec2<f32>(pattern.x / size, 1.0 - pattern.y / size);
+            return textureSampleLevel(images, image_sampler, uv, part.layer, 0.0).rgb;
+        }
+        case 3u: {
+            return marble(pattern / size, part.color.rgb, part.second.rgb);
+        }
+        default: {}
     }
     return part.color.rgb;
+}
+
+// Marble as the renderer makes it (orbifold-render, textures/marble.rs; Perlin 1985): veins of
+// `vein` in a `ground`, the level sets of a sine of x perturbed by turbulence. The lattice's
+// gradients are chosen by the same SplitMix64 hash, in 64-bit arithmetic on pairs of u32 (low,
+// high), so that the veins lie where the tracer puts them.
+fn marble(q: vec3<f32>, ground: vec3<f32>, vein: vec3<f32>) -> vec3<f32> {
+    var turbulence = 0.0;
+    var frequency = 1.0;
+    for (var octave = 0; octave < 6; octave++) {
+        turbulence += abs(gradient_noise(q * frequency)) / frequency;
+        frequency *= 2.0;
+    }
+    let s = sin(PI * (q.x + 0.5 * q.y + 3.0 * turbulence));
+    let t = pow(clamp(1.0 - abs(s), 0.0, 1.0), 4.0);
+    return clamp(ground + (vein - ground) * t, min(ground, vein), max(ground, vein));
+}
+
+// Perlin's improved gradient noise with a quintic fade.
+fn gradient_noise(p: vec3<f32>) -> f32 {
+    let cell = floor(p);
+    let f = p - cell;
+    let i = vec3<i32>(cell);
+    let u = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+    let x00 = mix(corner(i, f, vec3<i32>(0, 0, 0)), corner(i, f, vec3<i32>(1, 0, 0)), u.x);
+    let x10 = mix(corner(i, f, vec3<i32>(0, 1, 0)), corner(i, f, vec3<i32>(1, 1, 0)), u.x);
+    let x01 = mix(corner(i, f, vec3<i32>(0, 0, 1)), corner(i, f, vec3<i32>(1, 0, 1)), u.x);
+    let x11 = mix(corner(i, f, vec3<i32>(0, 1, 1)), corner(i, f, vec3<i32>(1, 1, 1)), u.x);
+    return mix(mix(x00, x10, u.y), mix(x01, x11, u.y), u.z);
+}
+
+fn corner(i: vec3<i32>, f: vec3<f32>, d: vec3<i32>) -> f32 {
+    let c = i + d;
+    return dot(lattice_gradient(c.x, c.y, c.z), f - vec3<f32>(d));
+}
+
+// One of Perlin's 12 cube-edge gradients, chosen by SplitMix64(SplitMix64(SplitMix64(x) ^ y) ^ z)
+// mod 12, each integer sign-extended to 64 bits.
+fn lattice_gradient(x: i32, y: i32, z: i32) -> vec3<f32> {
+    let h = splitmix64(xor64(splitmix64(xor64(splitmix64(widen(x)), widen(y))), widen(z)));
+    // (high·2³² + low) mod 12, with 2³² ≡ 4 (mod 12).
+    let k = ((h.y % 12u) * 4u + h.x % 12u) % 12u;
+    let a = select(1.0, -1.0, (k & 1u) != 0u);
+    let b = select(1.0, -1.0, (k & 2u) != 0u);
+    if k < 4u {
+        return vec3<f32>(a, b, 0.0);
+    }
+    if k < 8u {
+        return vec3<f32>(a, 0.0, b);
+    }
+    return vec3<f32>(0.0, a, b);
+}
+
+fn widen(v: i32) -> vec2<u32> {
+    return vec2<u32>(bitcast<u32>(v), select(0u, 0xffffffffu, v < 0));
+}
+
+fn xor64(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
+    return a ^ b;
+}
+
+// a >> n for 0 < n < 32.
+fn shr64(a: vec2<u32>, n: u32) -> vec2<u32> {
+    return vec2<u32>((a.x >> n) | (a.y << (32u - n)), a.y >> n);
+}
+
+fn add64(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
+    let low = a.x + b.x;
+    return vec2<u32>(low, a.y + b.y + select(0u, 1u, low < a.x));
+}
+
+// The full 64-bit product of two u32, from their 16-bit halves.
+fn wide_product(a: u32, b: u32) -> vec2<u32> {
+    let a0 = a & 0xffffu;
+    let a1 = a >> 16u;
+    let b0 = b & 0xffffu;
+    let b1 = b >> 16u;
+    let p00 = a0 * b0;
+    let p01 = a0 * b1;
+    let p10 = a1 * b0;
+    let middle = (p00 >> 16u) + (p01 & 0xffffu) + (p10 & 0xffffu);
+    let low = (p00 & 0xffffu) | (middle << 16u);
+    let high = a1 * b1 + (p01 >> 16u) + (p10 >> 16u) + (middle >> 16u);
+    return vec2<u32>(low, high);
+}
+
+// a·b mod 2⁶⁴.
+fn mul64(a: vec2<u32>, b: vec2<u32>) -> vec2<u32> {
+    let low = wide_product(a.x, b.x);
+    return vec2<u32>(low.x, low.y + a.x * b.y + a.y * b.x);
+}
+
+// The SplitMix64 finaliser (Steele, Lea & Flood 2014).
+fn splitmix64(x: vec2<u32>) -> vec2<u32> {
+    var z = add64(x, vec2<u32>(0x7F4A7C15u, 0x9E3779B9u));
+    z = mul64(z ^ shr64(z, 30u), vec2<u32>(0x1CE4E5B9u, 0xBF58476Du));
+    z = mul64(z ^ shr64(z, 27u), vec2<u32>(0x133111EBu, 0x94D049BBu));
+    return z ^ shr64(z, 31u);
 }
 
 // Flat shading from a headlight at the eye: the face normal in the eye's tangent space.

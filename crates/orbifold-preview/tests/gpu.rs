@@ -59,7 +59,13 @@ fn the_shader_puts_every_vertex_where_the_cpu_projection_does() {
         preview.load(&scene, None).unwrap();
         let layout = scene.layout().unwrap();
         let mesher = scene.room_mesher(&layout).unwrap();
-        let (room, _) = mesh::room(&scene, &layout, &mesher, scene.objects.len() as u32);
+        let (room, _) = mesh::room(
+            &scene,
+            &layout,
+            &mesher,
+            scene.objects.len() as u32,
+            &mut Default::default(),
+        );
         let view = preview.view().unwrap();
         let landed = preview.vertex_pixels(width, height).unwrap();
         assert!(
@@ -429,4 +435,120 @@ fn bad_requests_get_errors() {
     ));
     // The preview still draws the last good scene.
     assert!(preview.render(64, 48).is_ok());
+}
+
+/// For every pixel where both the preview and the tracer see the room's own floor (no mirror
+/// between), the preview's colour against the pattern's albedo at the point the tracer's ray
+/// hits (its position AOV): the ratio of the red and blue channels, which the headlight's
+/// shading (one factor for all three) leaves alone. Returns the share of such pixels within 10 %
+/// and their number.
+fn floor_pattern_agreement(
+    preview: &mut Preview,
+    scene: &Scene,
+    base: Option<&std::path::Path>,
+    albedo: impl Fn(f64, f64) -> [f64; 3],
+) -> (f64, usize) {
+    let (width, height) = (160, 120);
+    preview.load(scene, base).unwrap();
+    assert!(
+        preview.unread_textures().is_empty(),
+        "{:?}",
+        preview.unread_textures()
+    );
+    let frame = preview.render(width, height).unwrap();
+    let tracer = Tracer::from_scene(scene, base).unwrap();
+    let camera = Camera::new(tracer.space(), &scene.camera);
+    let aovs = aov::render(&tracer, &camera, width, height, 4);
+    let linear = |k: usize| orbifold_scene::color::linear_from_srgb8(frame.rgba[k]);
+    let (mut seen, mut agree) = (0, 0);
+    for k in 0..(width * height) as usize {
+        if frame.ids[k] != 0 || aovs.surface[k] != 0 || aovs.bounces[k] != 0 {
+            continue;
+        }
+        let [x, y, _] = aovs.position[k].map(f64::from);
+        let a = albedo(x, y);
+        let (r, b) = (linear(4 * k), linear(4 * k + 2));
+        seen += 1;
+        if ((r / b) / (a[0] / a[2]) - 1.0).abs() < 0.1 {
+            agree += 1;
+        }
+    }
+    (agree as f64 / seen.max(1) as f64, seen)
+}
+
+/// Marble and image textures are drawn where the renderer puts them (they were drawn in one
+/// representative colour): the preview's shader runs the renderer's marble, hash and all, and
+/// looks images up as the renderer does.
+#[test]
+fn textures_are_drawn_where_the_renderer_puts_them() {
+    let Some(gpu) = gpu() else { return };
+    let mut preview = Preview::new(gpu);
+    let (ground, vein) = ([0.9, 0.5, 0.3], [0.3, 0.5, 0.9]);
+    for (sig, size) in [("*2222", 0.4), ("*235", 0.15), ("*237", 0.1)] {
+        let mut marbled = scene(sig, 1);
+        // Looking down at the room's own floor.
+        marbled.camera.pitch = -50.0;
+        marbled.room.floor = orbifold_scene::Material::Marble {
+            base: ground,
+            vein,
+            scale: size,
+            coordinates: Default::default(),
+        };
+        let marble = |x: f64, y: f64| {
+            let p = glam::DVec3::new(x, y, 0.0);
+            orbifold_render::textures::marble(p, ground, vein, 1.0 / size)
+        };
+        let (share, seen) = floor_pattern_agreement(&mut preview, &marbled, None, marble);
+        eprintln!(
+            "{sig} marble: {:.1} % of {seen} floor pixels agree",
+            100.0 * share
+        );
+        assert!(
+            seen > 500 && share > 0.95,
+            "{sig} marble: {share} of {seen}"
+        );
+    }
+    // Four texels, each a colour whose red and blue differ from the others'.
+    let dir = std::env::temp_dir().join(format!("orbifold-preview-image-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let texels = [
+        [230, 60, 60],
+        [60, 150, 230],
+        [120, 230, 60],
+        [230, 200, 160],
+    ];
+    let image = image::RgbImage::from_fn(2, 2, |i, j| image::Rgb(texels[(2 * j + i) as usize]));
+    image.save(dir.join("four.png")).unwrap();
+    let scale = 0.3;
+    let texel = |x: f64, y: f64| {
+        let (u, v) = ((x / scale).rem_euclid(1.0), (y / scale).rem_euclid(1.0));
+        let (i, j) = ((u * 2.0) as usize, ((1.0 - v) * 2.0) as usize);
+        texels[2 * j.min(1) + i.min(1)].map(orbifold_scene::color::linear_from_srgb8)
+    };
+    for sig in ["*2222", "*235"] {
+        let mut imaged = scene(sig, 1);
+        imaged.camera.pitch = -50.0;
+        imaged.room.floor = orbifold_scene::Material::Texture {
+            path: "four.png".into(),
+            scale,
+            coordinates: Default::default(),
+        };
+        let (share, seen) = floor_pattern_agreement(&mut preview, &imaged, Some(&dir), texel);
+        eprintln!(
+            "{sig} image: {:.1} % of {seen} floor pixels agree",
+            100.0 * share
+        );
+        assert!(seen > 500 && share > 0.95, "{sig} image: {share} of {seen}");
+    }
+    // An image that cannot be read is named, and its floor drawn in its plain colour.
+    let mut missing = scene("*2222", 1);
+    missing.room.floor = orbifold_scene::Material::Texture {
+        path: "nowhere.png".into(),
+        scale,
+        coordinates: Default::default(),
+    };
+    preview.load(&missing, Some(&dir)).unwrap();
+    assert_eq!(preview.unread_textures().len(), 1);
+    assert!(preview.render(64, 48).is_ok());
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -47,6 +47,8 @@ pub struct View3d {
     pub stats: Option<orbifold_preview::Stats>,
     /// The last error, for the status line.
     pub error: Option<String>,
+    /// What the picture leaves out (an image texture that cannot be read), shown over it.
+    pub warning: Option<String>,
     /// The revision and scene the preview holds.
     loaded: Option<(u64, Scene)>,
     /// Whether the camera is moving (keys held or a drag under way).
@@ -73,6 +75,7 @@ impl View3d {
             drawn: None,
             stats: None,
             error: None,
+            warning: None,
             loaded: None,
             moving: false,
         }
@@ -171,6 +174,15 @@ impl View3d {
                     egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                     Color32::WHITE,
                 );
+                if let Some(warning) = &self.warning {
+                    ui.painter().text(
+                        rect.left_bottom() + egui::vec2(6.0, -6.0),
+                        egui::Align2::LEFT_BOTTOM,
+                        format!("{warning} (drawn in its plain colour)"),
+                        egui::FontId::proportional(13.0),
+                        Color32::YELLOW,
+                    );
+                }
             }
             None => {
                 ui.painter().rect_filled(rect, 0.0, Color32::from_gray(20));
@@ -318,6 +330,7 @@ impl View3d {
             Ok(None) => {
                 self.stats = Some(preview.stats());
                 self.error = None;
+                self.warning = preview.unread_textures().first().cloned();
             }
             Ok(Some(rgba)) => {
                 let image = egui::ColorImage::from_rgba_unmultiplied(size, &rgba);
@@ -333,6 +346,7 @@ impl View3d {
                 }
                 self.stats = Some(preview.stats());
                 self.error = None;
+                self.warning = preview.unread_textures().first().cloned();
             }
             Err(e) => {
                 self.error = Some(e.to_string());

@@ -86,6 +86,9 @@ pub fn run(args: &PreviewArgs) -> Result<(), CliError> {
     preview
         .load(&scene, base.as_deref())
         .map_err(|e| CliError::Input(e.to_string()))?;
+    for unread in preview.unread_textures() {
+        eprintln!("warning: {unread}; the preview draws its parts in their plain colour");
+    }
     preview
         .set_settings(Settings {
             depth: args.depth.unwrap_or(scene.preview.depth),

@@ -12,11 +12,13 @@
 //! - `settings`: [`Settings`], [`Stats`] and the constants of the preview's frames.
 //! - `resources`: what lives on the GPU: the uniform block, the instance record, meshes and
 //!   render targets.
+//! - `images`: the scene's image textures, one layer each of an array texture.
 //! - `scene`: loading a scene and the cheap updates of room and objects.
 //! - `instances`: which copies a frame draws (images, frustum culling, levels of detail).
 //! - `pipeline`: the render pipelines and the recording of each pass.
 //! - `readback`: reading colours, surface ids and projected vertices back to the CPU.
 
+mod images;
 mod instances;
 mod pipeline;
 mod readback;
@@ -62,6 +64,10 @@ pub struct Preview {
     samples: u32,
     globals: wgpu::Buffer,
     parts: wgpu::Buffer,
+    /// The layout of `bind_group`: globals, part table, images, sampler.
+    bindings: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    images: images::UploadedImages,
     bind_group: wgpu::BindGroup,
     instances: Option<wgpu::Buffer>,
     room: Option<GpuMesh>,
@@ -97,9 +103,10 @@ impl Preview {
             },
             count: None,
         };
+        let [image_entry, sampler_entry] = images::layout_entries();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("preview bindings"),
-            entries: &[uniform(0), uniform(1)],
+            entries: &[uniform(0), uniform(1), image_entry, sampler_entry],
         });
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("preview globals"),
@@ -113,20 +120,8 @@ impl Preview {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("preview bindings"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: globals.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: parts.as_entire_binding(),
-                },
-            ],
-        });
+        let sampler = images::sampler(device);
+        let no_images = images::array_view(device, &gpu.queue, &Default::default());
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("preview"),
             bind_group_layouts: &[Some(&layout)],
@@ -140,6 +135,8 @@ impl Preview {
         let make = |pass| pipeline(device, &pipeline_layout, &module, pass, samples);
         let (opaque, mirror) = (make(Pass::Opaque), make(Pass::Mirror));
         let (ids, points) = (make(Pass::Ids), make(Pass::Points));
+        let bind_group =
+            images::bind_group(device, &layout, [&globals, &parts], &no_images, &sampler);
         Preview {
             gpu,
             opaque,
@@ -149,6 +146,9 @@ impl Preview {
             samples,
             globals,
             parts,
+            bindings: layout,
+            sampler,
+            images: Default::default(),
             bind_group,
             instances: None,
             room: None,
@@ -198,6 +198,12 @@ impl Preview {
     /// The copies of the room up to the depth.
     pub fn copies(&self) -> &[Copy] {
         self.scene.as_ref().map_or(&[], |s| &s.copies)
+    }
+
+    /// Why each image texture the scene names could not be read (its parts are drawn in their
+    /// representative colour); empty when every image is on the GPU.
+    pub fn unread_textures(&self) -> &[String] {
+        &self.images.unread
     }
 
     /// What the last frame drew.

@@ -7,7 +7,7 @@
 //! room's buffer and the copies; a new depth only the copies (through
 //! [`Preview::set_settings`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use orbifold::Layout;
@@ -20,6 +20,7 @@ use super::settings::{MAX_PARTS, Settings};
 use crate::PreviewError;
 use crate::copies::{Copy, copies};
 use crate::mesh::{self, PartStyle};
+use crate::textures::TextureTable;
 
 /// The scene as the preview holds it on the CPU.
 pub(super) struct SceneState {
@@ -30,6 +31,10 @@ pub(super) struct SceneState {
     /// Part styles: objects first, then the room's parts.
     pub(super) styles: Vec<PartStyle>,
     pub(super) objects: usize,
+    /// The image files of the objects' materials (the room's follow them in the layers).
+    pub(super) object_textures: TextureTable,
+    /// The folder that mesh and image file names are relative to.
+    pub(super) base: Option<PathBuf>,
     /// The largest intrinsic distance of an object's point from the object's centre.
     pub(super) object_radius: f64,
     /// The highest point of an object above its base.
@@ -58,10 +63,12 @@ impl SceneState {
 
 impl Preview {
     /// Loads a whole scene: room, objects, copies, camera and the scene's preview settings.
-    /// `base` resolves mesh file names.
+    /// `base` resolves mesh and image file names.
     pub fn load(&mut self, scene: &Scene, base: Option<&Path>) -> Result<(), PreviewError> {
         let layout = scene.layout().map_err(PreviewError::Scene)?;
-        let objects = mesh::objects(scene, &layout, base).map_err(PreviewError::Scene)?;
+        let mut object_textures = TextureTable::default();
+        let objects = mesh::objects(scene, &layout, base, &mut object_textures)
+            .map_err(PreviewError::Scene)?;
         self.objects = GpuMesh::new(&self.gpu.device, &objects.mesh, "preview objects");
         let object_radius = objects.extents.iter().map(|e| e.0).fold(0.0, f64::max);
         // The highest point: an object's top above the height it stands at.
@@ -77,6 +84,8 @@ impl Preview {
             reflectances: Vec::new(),
             objects: objects.styles.len(),
             styles: objects.styles,
+            object_textures,
+            base: base.map(Path::to_path_buf),
             object_radius,
             object_top,
             // Full detail: the first level (the coarser ones follow it in the index list).
@@ -108,7 +117,9 @@ impl Preview {
         };
         let layout = scene.layout().map_err(PreviewError::Scene)?;
         let mesher = scene.room_mesher(&layout).map_err(PreviewError::Scene)?;
-        let (room, styles) = mesh::room(scene, &layout, &mesher, state.objects as u32);
+        let mut textures = state.object_textures.clone();
+        let (room, styles) =
+            mesh::room(scene, &layout, &mesher, state.objects as u32, &mut textures);
         if state.objects + styles.len() > MAX_PARTS {
             return Err(PreviewError::Scene(format!(
                 "the scene has {} parts (objects, floor, ceiling, walls and mirrors); the preview \
@@ -137,10 +148,16 @@ impl Preview {
         state.height = scene.room.height;
         state.room_triangles = room.triangles();
         state.layout = layout;
+        let mut styles = std::mem::take(&mut state.styles);
+        let base = state.base.clone();
+        self.upload_images(&textures, base.as_deref(), &mut styles);
         self.room = GpuMesh::new(&self.gpu.device, &room, "preview room");
         self.gpu
             .queue
-            .write_buffer(&self.parts, 0, bytemuck::cast_slice(&state.styles));
+            .write_buffer(&self.parts, 0, bytemuck::cast_slice(&styles));
+        if let Some(state) = self.scene.as_mut() {
+            state.styles = styles;
+        }
         self.rebuild_copies()
     }
 
