@@ -56,6 +56,7 @@ fn frames(c: &mut Criterion) {
     }
     group.finish();
     read_back(c, &mut preview);
+    patterns(c, &mut preview);
 }
 
 /// A frame read back to the CPU, as the studio shows it: the colours alone against the colours
@@ -72,6 +73,48 @@ fn read_back(c: &mut Criterion, preview: &mut Preview) {
     group.bench_function("*22222 depth 4, colours and ids", |b| {
         b.iter(|| preview.render(640, 480).expect("a frame"))
     });
+    group.finish();
+}
+
+/// The floor's pattern: one colour, a checkerboard (a floor and a parity), or marble (six
+/// octaves of gradient noise, 144 hashes a pixel, in 64-bit arithmetic on 32-bit integers).
+fn patterns(c: &mut Criterion, preview: &mut Preview) {
+    use orbifold_scene::Material;
+    let mut group = c.benchmark_group("preview frame 640x480, the floor's pattern");
+    group.sample_size(10);
+    let floors = [
+        ("one colour", Material::Color { color: [0.8; 3] }),
+        (
+            "checkerboard",
+            Material::Checker {
+                colors: [[0.9; 3], [0.2; 3]],
+                size: 0.1,
+                coordinates: Default::default(),
+            },
+        ),
+        (
+            "marble",
+            Material::Marble {
+                base: [0.9, 0.9, 0.85],
+                vein: [0.2, 0.25, 0.3],
+                scale: 0.2,
+                coordinates: Default::default(),
+            },
+        ),
+    ];
+    for (name, floor) in floors {
+        let mut scene = scene("*22222", 2);
+        scene.room.floor = floor;
+        // Looking down: the floor fills most of the picture.
+        scene.camera.pitch = -60.0;
+        preview.load(&scene, None).expect("the scene loads");
+        group.bench_function(format!("*22222 depth 2, {name}"), |b| {
+            b.iter(|| {
+                preview.draw(640, 480).expect("a frame");
+                preview.finish().expect("the GPU finishes");
+            })
+        });
+    }
     group.finish();
 }
 

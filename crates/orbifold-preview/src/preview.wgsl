@@ -117,7 +117,10 @@ fn vs_main(v: VertexIn, inst: InstanceIn, @builtin(vertex_index) index: u32) -> 
 
 // The pattern's colour at texture coordinates `pattern` (docs/scene-format.md, "Where a
 // pattern lies"), as the renderer's textures give it.
-fn albedo(part: Part, pattern: vec3<f32>) -> vec3<f32> {
+//
+// `uv` is an image's coordinates, and `du`, `dv` their derivatives across the screen, taken by
+// the caller where control flow is uniform (as derivatives must be).
+fn albedo(part: Part, pattern: vec3<f32>, uv: vec2<f32>, du: vec2<f32>, dv: vec2<f32>) -> vec3<f32> {
     let size = part.color.w;
     switch part.pattern {
         case 1u: {
@@ -130,9 +133,7 @@ fn albedo(part: Part, pattern: vec3<f32>) -> vec3<f32> {
             }
         }
         case 2u: {
-            // v runs up the image from its bottom row; the texture's rows run down from its top.
-            let uv = vec2<f32>(pattern.x / size, 1.0 - pattern.y / size);
-            return textureSampleLevel(images, image_sampler, uv, part.layer, 0.0).rgb;
+            return textureSampleGrad(images, image_sampler, uv, part.layer, du, dv).rgb;
         }
         case 3u: {
             return marble(pattern / size, part.color.rgb, part.second.rgb);
@@ -253,7 +254,11 @@ fn shade(tangent: vec3<f32>) -> f32 {
 @fragment
 fn fs_opaque(v: VertexOut) -> @location(0) vec4<f32> {
     let part = parts[v.part];
-    return vec4<f32>(albedo(part, v.pattern) * shade(v.tangent) * v.tint, 1.0);
+    // An image's coordinates: v runs up the image from its bottom row, the texture's rows run
+    // down from its top.
+    let uv = vec2<f32>(v.pattern.x, -v.pattern.y) / part.color.w + vec2<f32>(0.0, 1.0);
+    let colour = albedo(part, v.pattern, uv, dpdx(uv), dpdy(uv));
+    return vec4<f32>(colour * shade(v.tangent) * v.tint, 1.0);
 }
 
 // The surface code of what the pixel shows (the tracer's surface-id AOV).

@@ -2,8 +2,10 @@
 //! that the part table can name an image by its layer (`PartStyle::layer`).
 //!
 //! The shader looks an image up as the renderer does (docs/scene-format.md, "Where a pattern
-//! lies"): the texel at u = p₀/scale along its rows and v = p₁/scale upwards, repeating, the
-//! nearest texel, 8-bit sRGB decoded to linear (the texture's format does the decoding). The
+//! lies"): the texel at u = p₀/scale along its rows and v = p₁/scale upwards, repeating, 8-bit
+//! sRGB decoded to linear (the texture's format does the decoding); the nearest texel where a
+//! pixel covers less than a texel, mip levels (means in linear light) where it covers more, as
+//! the renderer averages an image over a pixel's footprint. The
 //! layers of an array share one size, so each image is resampled to the largest width and
 //! height among them (at most [`MAX_SIDE`]); which texel a point falls in is a matter of
 //! fractions of the image, so the pattern stays where it is.

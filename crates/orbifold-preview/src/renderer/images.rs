@@ -121,16 +121,49 @@ pub(super) fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
     ]
 }
 
-/// Nearest texels, as the renderer looks a single point up; repeating, as images tile.
+/// Repeating, as images tile. Magnified, the nearest texel, as the renderer looks a point up
+/// when a pixel's footprint is smaller than a texel; minified, the mip levels' texels blended,
+/// as the renderer averages an image over a larger footprint (far copies do not alias).
 pub(super) fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("preview images"),
         address_mode_u: wgpu::AddressMode::Repeat,
         address_mode_v: wgpu::AddressMode::Repeat,
         mag_filter: wgpu::FilterMode::Nearest,
-        min_filter: wgpu::FilterMode::Nearest,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
         ..Default::default()
     })
+}
+
+/// The next mip level of `texels` (RGBA, sRGB, `width`×`height`), half the size rounded down:
+/// each texel the mean of the 2×2 below it, in linear light (a side of one texel halves the
+/// other side only).
+fn half_size(texels: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
+    let (w, h) = ((width / 2).max(1), (height / 2).max(1));
+    let linear = |b: u8| orbifold_scene::color::linear_from_srgb8(b);
+    let mut out = Vec::with_capacity((4 * w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = [0.0f64; 4];
+            let mut count = 0.0;
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let (sx, sy) = (2 * x + dx, 2 * y + dy);
+                if sx < width && sy < height {
+                    let k = (4 * (sy * width + sx)) as usize;
+                    for c in 0..3 {
+                        sum[c] += linear(texels[k + c]);
+                    }
+                    sum[3] += f64::from(texels[k + 3]);
+                    count += 1.0;
+                }
+            }
+            let [r, g, b, a] = sum.map(|s| s / count);
+            out.extend([r, g, b].map(orbifold_scene::color::srgb8_from_linear));
+            out.push(a.round() as u8);
+        }
+    }
+    (out, w, h)
 }
 
 /// The images as layers of one sRGB texture (at least one layer: an array cannot be empty, and
@@ -142,6 +175,7 @@ pub(super) fn array_view(
 ) -> wgpu::TextureView {
     let (width, height) = (images.width.max(1), images.height.max(1));
     let layers = images.layers.len().max(1) as u32;
+    let levels = 32 - width.max(height).leading_zeros();
     let size = wgpu::Extent3d {
         width,
         height,
@@ -150,7 +184,7 @@ pub(super) fn array_view(
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("preview images"),
         size,
-        mip_level_count: 1,
+        mip_level_count: levels,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -159,32 +193,58 @@ pub(super) fn array_view(
     });
     for (layer, texels) in images.layers.iter().enumerate() {
         let Some(texels) = texels else { continue };
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: 0,
-                    y: 0,
-                    z: layer as u32,
+        let (mut level, mut w, mut h) = (texels.clone(), width, height);
+        for mip_level in 0..levels {
+            if mip_level > 0 {
+                (level, w, h) = half_size(&level, w, h);
+            }
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: layer as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
                 },
-                aspect: wgpu::TextureAspect::All,
-            },
-            texels,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * width),
-                rows_per_image: Some(height),
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
+                &level,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * w),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
     }
     texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mip level's texel is the mean in linear light of the four below it: black and white
+    /// make sRGB 188, not 128; a row of one texel halves along its length only.
+    #[test]
+    fn mip_levels_average_in_linear_light() {
+        let (w, b) = ([255, 255, 255, 255], [0, 0, 0, 255]);
+        let texels: Vec<u8> = [w, b, b, w].concat();
+        let (level, width, height) = half_size(&texels, 2, 2);
+        assert_eq!((width, height), (1, 1));
+        assert_eq!(level, vec![188, 188, 188, 255]);
+        let row: Vec<u8> = [w, b, w, w].concat();
+        let (level, width, height) = half_size(&row, 4, 1);
+        assert_eq!((width, height), (2, 1));
+        assert_eq!(level, [[188, 188, 188, 255], w].concat());
+    }
 }
