@@ -109,6 +109,11 @@ pub fn hear(scene: &Scene, base: Option<&Path>) -> Result<Heard, String> {
 pub struct ListenPanel {
     output: Box<dyn AudioOut>,
     job: Option<Receiver<Result<Heard, String>>>,
+    /// In the browser, which has no threads: the work, run by [`ListenPanel::collect`] once a
+    /// frame with the spinner has been shown, so that the page says what it is doing while it
+    /// holds.
+    #[cfg(target_arch = "wasm32")]
+    deferred: Option<(Box<dyn FnOnce()>, Option<u64>)>,
     echogram: Option<egui::TextureHandle>,
     /// The last message: what was heard, or what went wrong.
     pub message: String,
@@ -126,6 +131,8 @@ impl ListenPanel {
         ListenPanel {
             output,
             job: None,
+            #[cfg(target_arch = "wasm32")]
+            deferred: None,
             echogram: None,
             message: String::new(),
         }
@@ -187,17 +194,33 @@ impl ListenPanel {
         let work = move || {
             let _ = send.send(hear(&scene, base.as_deref()));
         };
-        // The browser has no threads: the echoes are found at once, holding the page a moment.
         #[cfg(not(target_arch = "wasm32"))]
         std::thread::spawn(work);
+        // The browser has no threads: the echoes are found on the page's own, holding it a
+        // moment, after the spinner has been drawn.
         #[cfg(target_arch = "wasm32")]
-        work();
+        {
+            self.deferred = Some((Box::new(work), None));
+        }
         self.job = Some(receive);
     }
 
     /// Takes the background work's result when it is there: plays it and shows its echogram
     /// (called every frame, whichever tab is shown, so the sound plays as soon as it is heard).
     pub fn collect(&mut self, ctx: &egui::Context) {
+        #[cfg(target_arch = "wasm32")]
+        if let Some((_, seen)) = &mut self.deferred {
+            let frame = ctx.cumulative_frame_nr();
+            match *seen {
+                None => *seen = Some(frame),
+                Some(first) if frame > first + 1 => {
+                    if let Some((work, _)) = self.deferred.take() {
+                        work();
+                    }
+                }
+                Some(_) => {}
+            }
+        }
         let Some(job) = &self.job else { return };
         let Ok(result) = job.try_recv() else { return };
         self.job = None;
