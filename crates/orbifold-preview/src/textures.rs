@@ -48,6 +48,24 @@ impl TextureTable {
         &self.paths
     }
 
+    /// What each file is now, so that an image replaced under the same name is read again: the
+    /// bytes given for it ([`orbifold_scene::files::provide`], as a page is given a dropped
+    /// file), or the file's time of modification on disk.
+    pub fn versions(&self, base: Option<&Path>) -> Vec<Version> {
+        self.paths
+            .iter()
+            .map(|path| {
+                let file: PathBuf = base.map_or_else(|| path.into(), |b| b.join(path));
+                match orbifold_scene::files::provided(&file) {
+                    Some(bytes) => Version::Given(bytes),
+                    None => {
+                        Version::Modified(std::fs::metadata(&file).and_then(|m| m.modified()).ok())
+                    }
+                }
+            })
+            .collect()
+    }
+
     /// Reads and decodes every image (`base` resolves relative paths, as the renderer resolves
     /// them; the bytes come through [`orbifold_scene::files::read`], so given bytes come before
     /// the disk), resampled to one size. An image that cannot be read leaves its layer empty
@@ -99,6 +117,25 @@ impl TextureTable {
             height,
             layers,
             unread,
+        }
+    }
+}
+
+/// Which version of an image file a layer holds ([`TextureTable::versions`]).
+#[derive(Clone, Debug)]
+pub enum Version {
+    /// Bytes given for the file's name: the same bytes, not equal ones.
+    Given(std::sync::Arc<[u8]>),
+    /// The file on disk, by its time of modification (`None`: there is no such file).
+    Modified(Option<std::time::SystemTime>),
+}
+
+impl PartialEq for Version {
+    fn eq(&self, other: &Version) -> bool {
+        match (self, other) {
+            (Version::Given(a), Version::Given(b)) => std::sync::Arc::ptr_eq(a, b),
+            (Version::Modified(a), Version::Modified(b)) => a == b,
+            _ => false,
         }
     }
 }
@@ -168,6 +205,15 @@ mod tests {
         assert_eq!(&a[..4], &[255, 0, 0, 255]);
         let b = images.layers[2].as_ref().unwrap();
         assert_eq!(&b[b.len() - 4..], &[0, 0, 255, 255]);
+        // Bytes given under a name are a new version each time they are given.
+        let versions = table.versions(Some(&dir));
+        assert_eq!(versions, table.versions(Some(&dir)));
+        orbifold_scene::files::provide(dir.join("a.png"), vec![1, 2, 3]);
+        let given = table.versions(Some(&dir));
+        assert_ne!(given, versions);
+        orbifold_scene::files::provide(dir.join("a.png"), vec![1, 2, 3]);
+        assert_ne!(table.versions(Some(&dir)), given);
+        orbifold_scene::files::forget(&dir.join("a.png"));
         std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::Preview;
 use crate::mesh::{IMAGE, PLAIN, PartStyle};
-use crate::textures::{Images, TextureTable};
+use crate::textures::{Images, TextureTable, Version};
 
 /// The images on the GPU: which files, read against which folder, and which of their layers
 /// hold an image.
@@ -14,20 +14,26 @@ use crate::textures::{Images, TextureTable};
 pub(super) struct UploadedImages {
     pub(super) table: TextureTable,
     pub(super) base: Option<PathBuf>,
+    pub(super) versions: Vec<Version>,
     pub(super) readable: Vec<bool>,
     pub(super) unread: Vec<String>,
 }
 
 impl Preview {
-    /// Puts the images of `table` (paths relative to `base`) on the GPU, unless they are there
-    /// already, and turns the parts whose image could not be read to their plain colour.
+    /// Puts the images of `table` (paths relative to `base`) on the GPU, unless the same
+    /// versions of them are there already, and turns the parts whose image could not be read to
+    /// their plain colour.
     pub(super) fn upload_images(
         &mut self,
         table: &TextureTable,
         base: Option<&Path>,
         styles: &mut [PartStyle],
     ) {
-        if self.images.table != *table || self.images.base.as_deref() != base {
+        let versions = table.versions(base);
+        if self.images.table != *table
+            || self.images.base.as_deref() != base
+            || self.images.versions != versions
+        {
             let mut images = table.read(base);
             let most = self.gpu.device.limits().max_texture_array_layers as usize;
             for (layer, texels) in images.layers.iter_mut().enumerate().skip(most) {
@@ -49,6 +55,7 @@ impl Preview {
             self.images = UploadedImages {
                 table: table.clone(),
                 base: base.map(Path::to_path_buf),
+                versions,
                 readable: images.layers.iter().map(Option::is_some).collect(),
                 unread: images.unread,
             };
