@@ -798,7 +798,8 @@ pub enum ColorArg {
 
 #[derive(Debug, Args)]
 pub struct TilingArgs {
-    /// The orbifold: a kaleidoscopic signature (`*237`) or any Conway symbol (`632`, `22×`).
+    /// The orbifold: a kaleidoscopic signature (`*237`), any Conway symbol (`632`, `22×`) or a
+    /// wallpaper group's short name (`p6`, `pgg`).
     #[arg(value_name = "SIG")]
     pub signature: String,
     /// The picture to write: `.png` or `.svg`.

@@ -49,6 +49,44 @@ pub struct SymmetryGroup {
     pub shape_parameters: usize,
 }
 
+/// The 17 wallpaper groups by their short IUCr names, with their Conway symbols: what a symbol
+/// may also be written as (`orbifold tiling p6`). Frieze groups are not read by name: `p1` and
+/// `p2` name frieze groups too, and here they are the wallpaper groups `o` and `2222`.
+const WALLPAPER_NAMES: [(&str, &str); 17] = [
+    ("p1", "o"),
+    ("p2", "2222"),
+    ("pm", "**"),
+    ("pg", "××"),
+    ("cm", "*×"),
+    ("pmm", "*2222"),
+    ("pmg", "22*"),
+    ("pgg", "22×"),
+    ("cmm", "2*22"),
+    ("p4", "442"),
+    ("p4m", "*442"),
+    ("p4g", "4*2"),
+    ("p3", "333"),
+    ("p3m1", "*333"),
+    ("p31m", "3*3"),
+    ("p6", "632"),
+    ("p6m", "*632"),
+];
+
+/// The Conway symbol of the wallpaper group with this short IUCr name (`p4g` → `4*2`).
+///
+/// ```
+/// use orbifold::groups::wallpaper_symbol;
+/// assert_eq!(wallpaper_symbol("p4g"), Some("4*2"));
+/// assert_eq!(wallpaper_symbol("pgg"), Some("22×"));
+/// assert_eq!(wallpaper_symbol("*632"), None);
+/// ```
+pub fn wallpaper_symbol(name: &str) -> Option<&'static str> {
+    WALLPAPER_NAMES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, conway)| *conway)
+}
+
 /// A Conway symbol written in the order given (the family's pattern, such as `*22n` or `2*n`).
 fn conway(cones: &[Order], boundaries: &[&[Order]], crosscaps: u32) -> String {
     OrbifoldSymbol::new(

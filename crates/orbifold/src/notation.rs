@@ -161,9 +161,13 @@ impl RawSymbol {
     }
 }
 
-/// Reads any Conway orbifold symbol. Non-integer orders are rejected unless the symbol is
+/// Reads any Conway orbifold symbol, or a wallpaper group's short IUCr name (`p6`, `pgg`:
+/// [`crate::groups::wallpaper_symbol`]). Non-integer orders are rejected unless the symbol is
 /// kaleidoscopic.
 pub(crate) fn parse_symbol(input: &str) -> Result<RawSymbol, ParseError> {
+    if let Some(conway) = crate::groups::wallpaper_symbol(input.trim()) {
+        return parse_symbol(conway);
+    }
     let chars: Vec<char> = input.chars().collect();
     let mut reader = Reader {
         input,

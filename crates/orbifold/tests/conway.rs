@@ -61,6 +61,18 @@ fn the_seventeen_wallpaper_groups_by_name() {
         assert_eq!(group.family, GroupFamily::Wallpaper);
         assert_eq!(sym(conway).geometry(), Geometry::Euclidean);
     }
+    // Each name is read as its group's symbol: the name the symbol's group gets back.
+    for (conway, name) in table {
+        assert_eq!(sym(name), sym(conway), "{name}");
+        assert_eq!(sym(name).symmetry_group().unwrap().name, name);
+        let kaleidoscopic = sym(conway).as_kaleidoscopic().is_some();
+        assert_eq!(
+            name.parse::<orbifold::Signature>().is_ok(),
+            kaleidoscopic,
+            "{name}"
+        );
+    }
+    assert!("p7".parse::<OrbifoldSymbol>().is_err());
     // Other spellings of the same orbifold get the same name.
     assert_eq!(sym("*236").symmetry_group().unwrap().name, "p6m");
     assert_eq!(sym("236").symmetry_group().unwrap().name, "p6");
