@@ -149,6 +149,12 @@ fn info_explains_conway_symbols() {
     assert_eq!(v[2]["group"]["name"], "p1");
     assert_eq!(v[3]["group"]["name"], "I");
     assert_eq!(v[3]["group_order"], 60);
+    // Wallpaper groups by name.
+    let v = json(&["info", "--json", "p6", "pgg", "p4m"]);
+    assert_eq!(v[0]["group"]["name"], "p6");
+    assert_eq!(v[1]["group"]["conway"], "22×");
+    assert_eq!(v[2]["canonical"], "*244");
+    assert_eq!(v[2]["buildable"], true);
 }
 
 #[test]
