@@ -78,23 +78,16 @@ pub const MARBLE: u32 = 3;
 impl PartStyle {
     /// A part that stands where it was meshed; an image material takes its layer in `textures`.
     fn new(material: &Material, code: i32, textures: &mut TextureTable) -> PartStyle {
-        let (pattern, color, second, size) = match material {
-            Material::Checker { colors, size, .. } => (CHECKER, colors[0], colors[1], *size),
+        let plain = representative(material);
+        let (pattern, color, second, size, layer) = match material {
+            Material::Checker { colors, size, .. } => (CHECKER, colors[0], colors[1], *size, 0),
             Material::Marble {
                 base, vein, scale, ..
-            } => (MARBLE, *base, *vein, *scale),
-            Material::Texture { scale, .. } => {
-                let c = representative(material);
-                (IMAGE, c, c, *scale)
+            } => (MARBLE, *base, *vein, *scale, 0),
+            Material::Texture { path, scale, .. } => {
+                (IMAGE, plain, plain, *scale, textures.layer(path))
             }
-            other => {
-                let c = representative(other);
-                (PLAIN, c, c, 0.0)
-            }
-        };
-        let layer = match material {
-            Material::Texture { path, .. } => textures.layer(path),
-            _ => 0,
+            _ => (PLAIN, plain, plain, 0.0, 0),
         };
         let mut style = PartStyle {
             color: rgba(color, size as f32),

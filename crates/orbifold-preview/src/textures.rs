@@ -76,7 +76,7 @@ impl TextureTable {
             .iter()
             .map(|path| {
                 let file: PathBuf = base.map_or_else(|| path.into(), |b| b.join(path));
-                decode(&file)
+                orbifold_scene::files::read_image(&file).map(|image| image.to_rgba8())
             })
             .collect();
         let side = |f: fn(&image::RgbaImage) -> u32| {
@@ -152,22 +152,6 @@ pub struct Images {
     pub layers: Vec<Option<Vec<u8>>>,
     /// Why each unread file could not be read.
     pub unread: Vec<String>,
-}
-
-/// One image file as RGBA8 (sRGB), its format its extension's (or its content's).
-fn decode(file: &Path) -> Result<image::RgbaImage, String> {
-    let cannot = |e: &dyn std::fmt::Display| format!("cannot read texture {}: {e}", file.display());
-    let bytes = orbifold_scene::files::read(file).map_err(|e| cannot(&e))?;
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(&*bytes));
-    match image::ImageFormat::from_path(file) {
-        Ok(format) => reader.set_format(format),
-        Err(_) => reader = reader.with_guessed_format().map_err(|e| cannot(&e))?,
-    }
-    let img = reader.decode().map_err(|e| cannot(&e))?.to_rgba8();
-    if img.width() == 0 || img.height() == 0 {
-        return Err(format!("texture {} has no pixels", file.display()));
-    }
-    Ok(img)
 }
 
 #[cfg(test)]

@@ -184,6 +184,29 @@ pub fn read(path: &Path) -> io::Result<Contents> {
     }
 }
 
+/// The image texture at `path` ([`read`]), decoded: PNG or JPEG, its format its extension's, as
+/// `image::open` takes it. The error names the file; an image without pixels is one.
+///
+/// ```
+/// use std::path::Path;
+/// use orbifold_scene::files;
+/// let error = files::read_image(Path::new("no/such/wood.png")).unwrap_err();
+/// assert!(error.starts_with("cannot read texture no/such/wood.png"), "{error}");
+/// ```
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+    let cannot = |e: &dyn std::fmt::Display| format!("cannot read texture {}: {e}", path.display());
+    let bytes = read(path).map_err(|e| cannot(&e))?;
+    let mut reader = image::ImageReader::new(io::Cursor::new(&*bytes));
+    if let Ok(format) = image::ImageFormat::from_path(path) {
+        reader.set_format(format);
+    }
+    let image = reader.decode().map_err(|e| cannot(&e))?;
+    if image.width() == 0 || image.height() == 0 {
+        return Err(format!("texture {} has no pixels", path.display()));
+    }
+    Ok(image)
+}
+
 /// Whether there is a file at `path`: given to the store, or a file on the disk.
 ///
 /// ```

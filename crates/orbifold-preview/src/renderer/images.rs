@@ -1,6 +1,7 @@
-//! The scene's image textures on the GPU ([`crate::textures`]): one 2D array texture, a layer
-//! per image file, bound beside the part table with a sampler of nearest texels that repeats.
-//! A part whose image could not be read keeps its representative colour.
+//! The scene's image textures on the GPU ([`crate::textures`]): one 2D array texture with mip
+//! levels, a layer per image file, bound beside the part table with a sampler that repeats (the
+//! nearest texel close up, mip levels blended far away). A part whose image could not be read
+//! keeps its representative colour.
 
 use std::path::{Path, PathBuf};
 
@@ -148,7 +149,7 @@ pub(super) fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
 /// other side only).
 fn half_size(texels: &[u8], width: u32, height: u32) -> (Vec<u8>, u32, u32) {
     let (w, h) = ((width / 2).max(1), (height / 2).max(1));
-    let linear = |b: u8| orbifold_scene::color::linear_from_srgb8(b);
+    let linear = orbifold_scene::color::linear_from_srgb8;
     let mut out = Vec::with_capacity((4 * w * h) as usize);
     for y in 0..h {
         for x in 0..w {

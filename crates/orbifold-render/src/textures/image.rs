@@ -49,26 +49,16 @@ impl ImageTexture {
         }
     }
 
-    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB. The file's bytes come through
-    /// [`orbifold_scene::files::read`] (given bytes before the disk); its format is its
-    /// extension's, as `image::open` takes it.
+    /// The image in `file` (PNG or JPEG, sRGB), in linear RGB, read and decoded by
+    /// [`orbifold_scene::files::read_image`] (given bytes before the disk; its format its
+    /// extension's).
     pub(super) fn read(file: &Path) -> Result<ImageTexture, String> {
-        let cannot =
-            |e: &dyn std::fmt::Display| format!("cannot read texture {}: {e}", file.display());
-        let bytes = orbifold_scene::files::read(file).map_err(|e| cannot(&e))?;
-        let mut reader = image::ImageReader::new(std::io::Cursor::new(&*bytes));
-        if let Ok(format) = image::ImageFormat::from_path(file) {
-            reader.set_format(format);
-        }
-        let image = reader.decode().map_err(|e| cannot(&e))?.to_rgb8();
+        let image = orbifold_scene::files::read_image(file)?.to_rgb8();
         let (width, height) = (image.width() as usize, image.height() as usize);
         let pixels = image
             .pixels()
             .map(|p| p.0.map(orbifold_scene::color::linear_from_srgb8))
             .collect::<Vec<_>>();
-        if width == 0 || height == 0 {
-            return Err(format!("texture {} has no pixels", file.display()));
-        }
         Ok(ImageTexture::new(pixels, width, height))
     }
 

@@ -479,9 +479,9 @@ impl RowBasis {
 }
 
 /// Candidate words: single generators, then products of two, then of three, with inverses (of
-/// pairings: a reflection is its own inverse). With `sorted`, the letters' generators come in
-/// the edges' order (a·b and b·a are conjugate, so of two letters that loses nothing); without,
-/// in every order, as a·c·b and a·b·c are not conjugate.
+/// pairings: a reflection is its own inverse). With `sorted`, the letters' generators are distinct
+/// and in the edges' order (a·b and b·a are conjugate, so of two letters that loses nothing);
+/// without, in every order and repeated, as a·c·b and a·b·c are not conjugate.
 fn candidate_words(problem: &Problem, letters: usize, sorted: bool) -> Vec<Vec<Letter>> {
     let generators: Vec<usize> = (0..problem.glue.len())
         .filter(|&i| match problem.glue[i] {
